@@ -1,0 +1,45 @@
+# grainlift: two commands do all set-up on a fresh Debian machine (see README.md).
+#   make demo   install deps if missing, configure, build, run cases/demo/, print where results are
+#   make test   install deps if missing, configure, build, run the test suite (ctest)
+BUILD ?= build
+JOBS ?= 2
+DEMO_SOLVER ?= both
+CMAKE_FLAGS ?=
+PYTHON ?= /usr/bin/python3
+
+.PHONY: all deps configure build demo test test-fast bench docs-keys clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps
+
+configure: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD).configure.log 2>&1 \
+	  || { cat $(BUILD).configure.log; exit 1; }
+
+build: configure
+	cmake --build $(BUILD) -j$(JOBS)
+
+demo: build
+	$(BUILD)/bin/grainlift run cases/demo/demo.toml --solver $(DEMO_SOLVER) --out out/demo --threads $(JOBS)
+	$(PYTHON) scripts/plot_results.py out/demo
+	@echo "demo results: out/demo/ (summary.json, *.h5 for h5py, *_fields.xmf for ParaView, *.png plots)"
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+# unit tests only, without the minutes-long regression runs
+test-fast: build
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) -LE regression
+
+bench: build
+	@ls $(BUILD)/bin/bench_* >/dev/null 2>&1 || { echo "no benchmarks built"; exit 1; }
+	@for b in $(BUILD)/bin/bench_*; do echo "== $$b"; $$b; done
+
+# regenerate the key table of docs/case-format.md from the registry
+docs-keys: build
+	$(PYTHON) scripts/update_case_docs.py $(BUILD)/bin/grainlift docs/case-format.md
+
+clean:
+	rm -rf $(BUILD) $(BUILD).configure.log

@@ -1,0 +1,275 @@
+#include "commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "grainlift/shared/atomic_file.h"
+#include "grainlift/shared/case_keys.h"
+#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/compare.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/result_file.h"
+
+namespace grainlift::app {
+namespace {
+
+const std::map<std::string, std::string> known_solvers = {
+    {"dem", "discrete element method, 2D frictional disks (dem/)"},
+    {"fem", "finite-element mu(I) continuum, deal.II (continuum/)"}};
+
+/// Resolves --solver dem|fem|both into entries; unknown or unbuilt solvers are InputErrors.
+std::vector<SolverEntry> pick_solvers(const std::string& which) {
+  const auto built = available_solvers();
+  std::vector<std::string> names;
+  if (which == "both") names = {"dem", "fem"};
+  else names = {which};
+  std::vector<SolverEntry> out;
+  for (const auto& n : names) {
+    auto it = std::find_if(built.begin(), built.end(), [&](const auto& s) { return s.name == n; });
+    if (it == built.end()) {
+      if (known_solvers.count(n))
+        throw InputError(fmt::format(
+            "solver '{}' ({}) is not available in this build of grainlift yet; available: {}", n,
+            known_solvers.at(n), built.empty() ? std::string("none") : [&] {
+              std::string s;
+              for (const auto& b : built) s += (s.empty() ? "" : ", ") + b.name;
+              return s;
+            }()));
+      throw InputError(fmt::format("unknown solver '{}' (accepted: dem, fem, both)", n));
+    }
+    out.push_back(*it);
+  }
+  return out;
+}
+
+std::string default_out_dir(const std::string& case_path) {
+  std::filesystem::path p(case_path);
+  std::string name = p.parent_path().filename().string();
+  if (name.empty() || name == "." || name == "cases") name = p.stem().string();
+  else if (p.stem() != name) name += "-" + p.stem().string();
+  return "out/" + name;
+}
+
+struct RunArgs {
+  std::string case_path, solver = "both", out;
+  std::vector<std::string> sets;
+  int threads = 1;
+  bool quiet = false;
+};
+
+void print_results(const std::vector<RunResult>& results, const std::string& out) {
+  for (const auto& r : results) {
+    if (!r.means) continue;
+    const auto& m = *r.means;
+    auto se = [](const std::optional<double>& s) {
+      return s ? fmt::format(" ± {:.3g}", *s) : std::string();
+    };
+    fmt::print("{:>4}: drag {:.6g}{} N/m   lift {:.6g}{} N/m   torque {:.6g}{} N   ({})\n",
+               r.meta.solver, m.drag, se(m.drag_stderr), m.lift, se(m.lift_stderr), m.torque,
+               se(m.torque_stderr), format_duration(r.meta.wall_seconds));
+  }
+  fmt::print("results: {}/  (summary.json", out);
+  for (const auto& r : results) fmt::print(", {}.h5", r.meta.solver);
+  fmt::print(")\n");
+}
+
+int cmd_run(const RunArgs& a) {
+  const Case c = load_case(a.case_path, a.sets);
+  const auto solvers = pick_solvers(a.solver);
+  RunOptions opt;
+  opt.out_dir = a.out.empty() ? default_out_dir(a.case_path) : a.out;
+  opt.threads = a.threads;
+  opt.progress = !a.quiet;
+  const auto results = run_solvers(c, solvers, opt);
+  print_results(results, opt.out_dir);
+  return exit_success;
+}
+
+int cmd_validate(const std::vector<std::string>& files, const std::vector<std::string>& sets) {
+  int failures = 0;
+  for (const auto& f : files) {
+    try {
+      load_case(f, sets);
+      fmt::print("{}: ok\n", f);
+    } catch (const InputError& e) {
+      std::cerr << e.what();
+      ++failures;
+    }
+  }
+  return failures ? exit_bad_input : exit_success;
+}
+
+int cmd_compare(const std::string& a, const std::string& b, bool json) {
+  const Comparison c = compare_results(read_result(a), read_result(b));
+  if (json) fmt::print("{}\n", comparison_json(c, 2));
+  else fmt::print("{}", comparison_text(c));
+  return exit_success;
+}
+
+/// Splits "v1,v2,[1,2]" at top-level commas.
+std::vector<std::string> split_values(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  int depth = 0;
+  bool quoted = false;
+  for (char ch : s) {
+    if (ch == '"') quoted = !quoted;
+    if (!quoted && (ch == '[' || ch == '{')) ++depth;
+    if (!quoted && (ch == ']' || ch == '}')) --depth;
+    if (ch == ',' && depth == 0 && !quoted) {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += ch;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+std::string safe_name(std::string s) {
+  for (char& ch : s)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-' || ch == '_' ||
+          ch == '='))
+      ch = '_';
+  return s;
+}
+
+int cmd_sweep(const RunArgs& a, const std::string& vary) {
+  const auto eq = vary.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == vary.size())
+    throw InputError(fmt::format("--vary '{}': expected section.key=v1,v2,...", vary));
+  const std::string key = vary.substr(0, eq);
+  const auto values = split_values(vary.substr(eq + 1));
+  // Validate every member of the series before running any of them.
+  std::vector<Case> cases;
+  for (const auto& v : values) {
+    auto sets = a.sets;
+    sets.push_back(key + "=" + v);
+    cases.push_back(load_case(a.case_path, sets));
+  }
+  const auto solvers = pick_solvers(a.solver);
+  const std::string out = a.out.empty() ? default_out_dir(a.case_path) + "-sweep" : a.out;
+  make_directories(out);
+  std::string csv =
+      "key,value,solver,drag,drag_stderr,lift,lift_stderr,torque,torque_stderr,lift_over_drag,"
+      "spin_ratio,contacts,wall_seconds,run_dir\n";
+  auto num = [](const std::optional<double>& v) {
+    return v && std::isfinite(*v) ? fmt::format("{:.10g}", *v) : std::string();
+  };
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    RunOptions opt;
+    opt.out_dir = out + "/" + safe_name(key + "=" + values[i]);
+    opt.threads = a.threads;
+    opt.progress = !a.quiet;
+    fmt::print("sweep {}/{}: {} = {}\n", i + 1, values.size(), key, values[i]);
+    std::fflush(stdout);
+    const auto results = run_solvers(cases[i], solvers, opt);
+    for (const auto& r : results) {
+      if (!r.means) continue;
+      const auto& m = *r.means;
+      csv += fmt::format("{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{}\n", key, values[i],
+                         r.meta.solver, num(m.drag), num(m.drag_stderr), num(m.lift),
+                         num(m.lift_stderr), num(m.torque), num(m.torque_stderr),
+                         num(m.drag != 0 ? std::optional<double>(m.lift / m.drag) : std::nullopt),
+                         num(cases[i].spin_ratio()), num(m.contacts), num(r.meta.wall_seconds),
+                         opt.out_dir);
+    }
+    write_text_atomically(out + "/sweep.csv", csv);  // rewritten after each run
+  }
+  fmt::print("sweep table: {}/sweep.csv\n", out);
+  return exit_success;
+}
+
+void add_run_options(CLI::App* cmd, RunArgs& a) {
+  cmd->add_option("CASE", a.case_path, "case file (TOML), e.g. cases/demo/demo.toml")->required();
+  cmd->add_option("--solver", a.solver, "which solver to run")
+      ->check(CLI::IsMember({"dem", "fem", "both"}))
+      ->capture_default_str();
+  cmd->add_option("--out", a.out, "output folder (default: out/<case name>)");
+  cmd->add_option("--set", a.sets,
+                  "override a case key, section.key=value (TOML value; repeatable; validated "
+                  "like the file)");
+  cmd->add_option("--threads", a.threads, "threads for the solver")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_flag("--quiet", a.quiet, "no progress lines");
+}
+
+}  // namespace
+
+int main_with_args(int argc, char** argv) {
+  CLI::App app{"grainlift: forces on a cylinder that translates and spins through a granular "
+               "medium, by DEM and by a mu(I) continuum, from one case file.\n"
+               "Exit codes: 0 success, 1 a run that failed, 2 bad input."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", grainlift_version() + " (" + grainlift_git_revision() + ")");
+
+  RunArgs run_args;
+  auto* run = app.add_subcommand("run", "run a case with one or both solvers");
+  add_run_options(run, run_args);
+
+  std::vector<std::string> validate_files, validate_sets;
+  auto* validate = app.add_subcommand("validate", "check case files without running them");
+  validate->add_option("CASE", validate_files, "case files")->required();
+  validate->add_option("--set", validate_sets, "overrides applied to every file");
+
+  std::string cmp_a, cmp_b;
+  bool cmp_json = false;
+  auto* compare = app.add_subcommand(
+      "compare", "differences of B against A: drag, lift, torque (relative) and sigma_n, sigma_t "
+                 "(L2 and max, normalised by a pressure scale)");
+  compare->add_option("A", cmp_a, "reference result file (.h5)")->required();
+  compare->add_option("B", cmp_b, "result file to compare (.h5)")->required();
+  compare->add_flag("--json", cmp_json, "print JSON");
+
+  RunArgs sweep_args;
+  std::string vary;
+  auto* sweep = app.add_subcommand("sweep", "run a series varying one key; writes sweep.csv");
+  add_run_options(sweep, sweep_args);
+  sweep->add_option("--vary", vary, "section.key=v1,v2,... (any key)")->required();
+
+  bool markdown = false;
+  auto* keys = app.add_subcommand("keys", "list every case key with unit, default and range");
+  keys->add_flag("--markdown", markdown, "as the Markdown table of docs/case-format.md");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? exit_success : exit_bad_input;
+  }
+
+  try {
+    if (*run) return cmd_run(run_args);
+    if (*validate) return cmd_validate(validate_files, validate_sets);
+    if (*compare) return cmd_compare(cmp_a, cmp_b, cmp_json);
+    if (*sweep) return cmd_sweep(sweep_args, vary);
+    if (*keys) {
+      if (markdown) fmt::print("{}", keys_markdown());
+      else
+        for (const auto& k : case_keys())
+          fmt::print("{:32} {:16} {:10} default {:18} accepted {}\n", k.path, type_name(k.type),
+                     k.unit, k.required ? "(required)" : k.default_text, accepted_range(k));
+      return exit_success;
+    }
+  } catch (const InputError& e) {
+    std::string msg = e.what();
+    if (!msg.empty() && msg.back() != '\n') msg += '\n';
+    std::cerr << "grainlift: bad input:\n" << msg;
+    return exit_bad_input;
+  } catch (const RunError& e) {
+    std::cerr << "grainlift: run failed: " << e.what() << "\n";
+    return exit_run_failed;
+  } catch (const std::exception& e) {
+    std::cerr << "grainlift: run failed: " << e.what() << "\n";
+    return exit_run_failed;
+  }
+  return exit_success;
+}
+
+}  // namespace grainlift::app

@@ -1,0 +1,16 @@
+// The subcommands of `grainlift` (run, validate, compare, sweep, keys).
+#pragma once
+
+#include <vector>
+
+#include "grainlift/shared/run_driver.h"
+
+namespace grainlift::app {
+
+/// Parses argv, runs the subcommand, maps errors to exit codes (0, 1 run failed, 2 bad input).
+int main_with_args(int argc, char** argv);
+
+/// The solvers compiled into this binary (solver_table.cc).
+std::vector<SolverEntry> available_solvers();
+
+}  // namespace grainlift::app

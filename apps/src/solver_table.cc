@@ -1,0 +1,24 @@
+// Which solvers this build has. Each module contributes one SolverEntry.
+#include "commands.h"
+
+#ifdef GRAINLIFT_HAVE_DEM
+#include "grainlift/dem/dem_solver.h"
+#endif
+#ifdef GRAINLIFT_HAVE_FEM
+#include "grainlift/continuum/continuum_solver.h"
+#endif
+
+namespace grainlift::app {
+
+std::vector<SolverEntry> available_solvers() {
+  std::vector<SolverEntry> s;
+#ifdef GRAINLIFT_HAVE_DEM
+  s.push_back(dem::solver_entry());
+#endif
+#ifdef GRAINLIFT_HAVE_FEM
+  s.push_back(continuum::solver_entry());
+#endif
+  return s;
+}
+
+}  // namespace grainlift::app

@@ -1,0 +1,165 @@
+// Glue between the case file / shared schema and the continuum engine (conversion only).
+#include "grainlift/continuum/continuum_solver.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/solver.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/surface_stress.h"
+
+namespace grainlift::continuum {
+
+ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir) {
+  ContinuumConfig f;
+  f.intruder_diameter = c.intruder.diameter;
+  if (c.continuum.box_half_size[0] > 0 && c.continuum.box_half_size[1] > 0) {
+    f.half_width = c.continuum.box_half_size[0];
+    f.half_height = c.continuum.box_half_size[1];
+  } else {
+    const auto& d = c.domain;
+    const auto& p = c.intruder.position;
+    f.half_width = std::min(p[0] - d.x_range[0], d.x_range[1] - p[0]);
+    f.half_height = std::min(p[1] - d.y_range[0], d.y_range[1] - p[1]);
+  }
+  if (f.half_width <= c.intruder.diameter || f.half_height <= c.intruder.diameter)
+    throw InputError(fmt::format(
+        "{}: the continuum box (half size {} x {} m) must be wider than the intruder diameter "
+        "{} m; set continuum.box_half_size",
+        c.source.path, f.half_width, f.half_height, c.intruder.diameter));
+  f.intruder_velocity = c.intruder.velocity;
+  f.intruder_omega = c.intruder.omega;
+  f.gravity = c.scene.gravity;
+  f.bulk_density = c.bulk_density();
+  f.ambient_pressure = c.continuum_pressure();
+  if (!(f.ambient_pressure > 0))
+    throw InputError(fmt::format(
+        "{}: the mu(I) rheology needs a confining pressure: set continuum.ambient_pressure > 0 or "
+        "gravity with the intruder below the top of the bed",
+        c.source.path));
+  auto& rh = f.rheology;
+  rh.mu_s = c.continuum.mu_s;
+  rh.mu_2 = c.continuum.mu_2;
+  rh.I0 = c.continuum.I0;
+  rh.grain_diameter = c.grains.diameter;
+  rh.solid_density = c.grains.density;
+  rh.regularisation = c.continuum.regularisation == "barker_gray" ? Regularisation::barker_gray
+                                                                  : Regularisation::chauchat_medale;
+  rh.delta = c.continuum.delta;
+  rh.eta_max = c.continuum.eta_max;
+  f.wall = c.continuum.wall == "coulomb" ? WallCondition::coulomb : WallCondition::no_slip;
+  f.wall_friction = c.continuum.wall_friction;
+  f.inertia = c.continuum.inertia == "on"    ? InertiaMode::on
+              : c.continuum.inertia == "off" ? InertiaMode::off
+                                             : InertiaMode::automatic;
+  f.refinement = c.continuum.refinement;
+  f.adaptive_cycles = c.continuum.adaptive_cycles;
+  f.nonlinear_tolerance = c.continuum.tolerance;
+  f.max_nonlinear_iterations = c.continuum.max_iterations;
+  f.picard_iterations = c.continuum.picard_iterations;
+  f.linear_solver = c.continuum.linear_solver == "amg" ? LinearSolver::amg : LinearSolver::direct;
+  // Surface angles: the shared grid, measured from V, turned into lab angles from +x.
+  const double heading = std::atan2(c.intruder.velocity[1], c.intruder.velocity[0]);
+  for (double t : surface_angle_grid(c.output.angles)) f.surface_theta.push_back(t + heading);
+  if (c.output.fields) {
+    const double h = c.output.field_spacing * c.grains.diameter;
+    f.fields.enabled = true;
+    f.fields.spacing = h;
+    f.fields.nx = std::max(1, int(std::ceil(2 * c.output.field_half_size[0] * c.intruder.diameter / h)));
+    f.fields.ny = std::max(1, int(std::ceil(2 * c.output.field_half_size[1] * c.intruder.diameter / h)));
+    f.fields.x0 = -0.5 * f.fields.nx * h;
+    f.fields.y0 = -0.5 * f.fields.ny * h;
+  }
+  if (c.output.vtu) f.vtu_directory = out_dir + "/fem_vtu";
+  return f;
+}
+
+namespace {
+
+RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOutput& out) {
+  RunResult r;
+  const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
+  ForceSeries f;
+  f.time = {0.0};
+  f.fx = {out.fx};
+  f.fy = {out.fy};
+  f.torque = {out.torque};
+  r.forces = f;
+  const DragLift dl = project_drag_lift(out.fx, out.fy, vx, vy);
+  MeanForces m;
+  m.drag = dl.drag;
+  m.lift = dl.lift;
+  m.torque = out.torque;
+  m.samples = 1;
+  m.blocks = 0;
+  r.means = m;
+  if (!out.sigma_n.empty()) {
+    SurfaceDistribution s;
+    s.theta = surface_angle_grid(c.output.angles);
+    s.sigma_n = out.sigma_n;
+    s.sigma_t = out.sigma_t;
+    s.kernel_width_deg = 0;
+    r.surface = std::move(s);
+  }
+  if (cfg.fields.enabled && !out.vx.empty()) {
+    FieldGrid g;
+    for (int i = 0; i < cfg.fields.nx; ++i) g.x.push_back(cfg.fields.x0 + (i + 0.5) * cfg.fields.spacing);
+    for (int j = 0; j < cfg.fields.ny; ++j) g.y.push_back(cfg.fields.y0 + (j + 0.5) * cfg.fields.spacing);
+    g.velocity_x = out.vx;
+    g.velocity_y = out.vy;
+    if (!out.pressure.empty()) g.pressure = out.pressure;
+    if (!out.sxx.empty()) {
+      g.stress_xx = out.sxx;
+      g.stress_xy = out.sxy;
+      g.stress_yy = out.syy;
+    }
+    r.fields = std::move(g);
+  }
+  Geometry& q = r.geometry;
+  q.intruder_diameter = c.intruder.diameter;
+  q.intruder_x = c.intruder.position[0];
+  q.intruder_y = c.intruder.position[1];
+  q.grain_diameter = c.grains.diameter;
+  q.domain_xmin = c.intruder.position[0] - cfg.half_width;
+  q.domain_xmax = c.intruder.position[0] + cfg.half_width;
+  q.domain_ymin = c.intruder.position[1] - cfg.half_height;
+  q.domain_ymax = c.intruder.position[1] + cfg.half_height;
+  q.velocity_x = vx;
+  q.velocity_y = vy;
+  q.omega = c.intruder.omega;
+  q.gravity_x = c.scene.gravity[0];
+  q.gravity_y = c.scene.gravity[1];
+  q.bulk_density = c.bulk_density();
+  q.pressure_scale = cfg.ambient_pressure;
+  r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
+                             "final relative residual {:.3g}",
+                             out.cells, out.dofs, out.nonlinear_iterations,
+                             out.linear_iterations, out.final_residual);
+  return r;
+}
+
+}  // namespace
+
+SolverEntry solver_entry() {
+  SolverEntry e;
+  e.name = "fem";
+  e.description = "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
+  e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
+    const ContinuumConfig cfg = make_continuum_config(c, opt.out_dir);
+    ContinuumOutput out;
+    try {
+      out = solve_flow(cfg, [&](const std::string& line) { progress.message(line); });
+    } catch (const ConfigError& e) {
+      throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
+    }
+    if (!out.converged)
+      throw RunError(fmt::format("the continuum solve did not converge: {}", out.message));
+    return to_result(c, cfg, out);
+  };
+  return e;
+}
+
+}  // namespace grainlift::continuum

@@ -1,0 +1,93 @@
+// Plain-data description of one continuum (mu(I)) run, filled from the case file by the
+// glue in continuum/src/continuum_solver.cc. No deal.II types here: files that include
+// this header compile fast.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace grainlift::continuum {
+
+enum class Regularisation {
+  chauchat_medale,  ///< eta = mu(I) p / (2 sqrt(|D|^2 + delta^2)), capped at eta_max (Chauchat & Medale, JCP 2014)
+  barker_gray       ///< partial regularisation of Barker & Gray (JFM 2017) for low I
+};
+enum class WallCondition { no_slip, coulomb };
+enum class InertiaMode { off, on, automatic };
+enum class LinearSolver { direct, amg };
+
+struct RheologyParams {
+  double mu_s = 0.38, mu_2 = 0.64, I0 = 0.279;  ///< Jop, Forterre & Pouliquen 2006 (glass beads)
+  double grain_diameter = 1.5e-3;   ///< m
+  double solid_density = 2500;      ///< kg/m^3 (rho_s); I = 2|D| d / sqrt(p / rho_s)
+  Regularisation regularisation = Regularisation::chauchat_medale;
+  double delta = 1e-3;              ///< 1/s, strain-rate regularisation
+  double eta_max = 1e4;             ///< Pa s, viscosity cap
+  // ---- added by the continuum engine (defaults keep the previous behaviour)
+  double eta_min = 1e-6;            ///< Pa s, viscosity floor (where p <= 0 the mu(I) viscosity vanishes)
+  /// I_N of Barker & Gray 2017: below it mu(I) = sqrt(alpha / ln(A / I)), with alpha and A set so
+  /// that mu and dmu/dI are continuous at I_N. Used only with Regularisation::barker_gray.
+  double barker_gray_IN = 1e-3;
+};
+
+/// Regular grid in the intruder frame on which fields are sampled (same meaning as the DEM's).
+struct FieldGridSpec {
+  bool enabled = false;
+  double x0 = 0, y0 = 0, spacing = 0;
+  int nx = 0, ny = 0;
+};
+
+struct ContinuumConfig {
+  // ---- geometry (intruder frame: intruder centred at the origin)
+  double intruder_diameter = 0.1;   ///< m
+  double half_width = 1.0;          ///< m, box is [-half_width, half_width] x [-half_height, half_height]
+  double half_height = 1.0;         ///< m
+  // ---- kinematics (lab frame)
+  std::array<double, 2> intruder_velocity{1, 0};  ///< m/s; far field moves at -V in the intruder frame
+  double intruder_omega = 0;                      ///< rad/s, counter-clockwise positive
+  // ---- body force and pressure
+  std::array<double, 2> gravity{0, 0};  ///< m/s^2
+  double bulk_density = 1500;           ///< kg/m^3, rho = Phi rho_s
+  double ambient_pressure = 1000;       ///< Pa, P0 at the intruder centre
+  RheologyParams rheology;
+  WallCondition wall = WallCondition::no_slip;
+  double wall_friction = 0.5;           ///< mu_w for the Coulomb wall condition
+  InertiaMode inertia = InertiaMode::automatic;
+  // ---- added by the continuum engine
+  /// InertiaMode::automatic keeps rho (u.grad)u only when rho |V|^2 / P0 >= this value.
+  double inertia_threshold = 1e-3;
+  /// m/s, slip velocity of the regularised Coulomb wall: |tau| = mu_w p s / sqrt(s^2 + eps^2);
+  /// 0 = automatic, 1e-3 * max(|V|, |omega| R).
+  double wall_slip_regularisation = 0;
+  // ---- numerics
+  int refinement = 3;                   ///< global refinement level of the base mesh
+  int adaptive_cycles = 0;
+  double nonlinear_tolerance = 1e-8;    ///< relative residual
+  int max_nonlinear_iterations = 50;
+  int picard_iterations = 5;
+  LinearSolver linear_solver = LinearSolver::direct;
+  // ---- output
+  std::vector<double> surface_theta;    ///< rad, angles at which sigma_n, sigma_t are sampled
+  FieldGridSpec fields;
+  std::string vtu_directory;            ///< "" = no VTU output
+};
+
+struct ContinuumOutput {
+  double fx = 0, fy = 0, torque = 0;      ///< N/m, N: force and torque of the medium on the intruder
+  std::vector<double> sigma_n, sigma_t;   ///< Pa at surface_theta; sigma_n > 0 compressive, sigma_t > 0 ccw
+  // fields on the grid, row-major [j * nx + i]; NaN inside the intruder or outside the mesh
+  std::vector<double> vx, vy, pressure, sxx, sxy, syy;
+  int nonlinear_iterations = 0, linear_iterations = 0;
+  int cells = 0, dofs = 0;
+  double final_residual = 0;
+  bool converged = false;
+  // ---- added by the continuum engine
+  int picard_steps = 0, newton_steps = 0;  ///< split of nonlinear_iterations
+  double initial_residual = 0;            ///< |R_0| (final_residual is |R_k| / |R_0|)
+  bool inertia_used = false;              ///< whether rho (u.grad)u was included
+  double force_fx_surface = 0, force_fy_surface = 0, torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
+  std::string message;                    ///< why it failed when !converged
+};
+
+}  // namespace grainlift::continuum

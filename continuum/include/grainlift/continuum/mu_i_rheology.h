@@ -1,0 +1,83 @@
+// Viscosity models of the continuum engine, as pure batch functions over quadrature points
+// (ASPECT material-model style): no I/O, no allocation, no deal.II.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "grainlift/continuum/continuum_config.h"
+
+namespace grainlift::continuum {
+
+/// Inputs at n points. Both vectors have the same length.
+struct RheologyInputs {
+  std::vector<double> strain_rate_sq;  ///< |D|^2 = D:D / 2, 1/s^2 (D the strain-rate tensor)
+  std::vector<double> pressure;        ///< Pa, mechanical pressure -tr(sigma)/2; may be negative
+  void resize(std::size_t n) { strain_rate_sq.resize(n); pressure.resize(n); }
+  std::size_t size() const { return pressure.size(); }
+};
+
+/// Outputs at the same n points; the caller sizes them (see resize()).
+struct RheologyOutputs {
+  std::vector<double> viscosity;        ///< Pa s, eta in sigma = -p I + 2 eta D
+  std::vector<double> deta_dstrain_sq;  ///< Pa s^3, d eta / d |D|^2
+  std::vector<double> deta_dpressure;   ///< s, d eta / d p
+  std::vector<double> friction;         ///< mu(I) (0 for a Newtonian fluid)
+  std::vector<double> inertial_number;  ///< I = 2 |D| d / sqrt(p / rho_s) (0 for a Newtonian fluid)
+  void resize(std::size_t n) {
+    viscosity.resize(n); deta_dstrain_sq.resize(n); deta_dpressure.resize(n);
+    friction.resize(n); inertial_number.resize(n);
+  }
+};
+
+/// @brief Interface of a generalised-Newtonian viscosity eta(|D|^2, p).
+class ViscosityModel {
+ public:
+  virtual ~ViscosityModel() = default;
+  /// @brief Fill every output at every point of @p in (outputs must be sized like the inputs).
+  virtual void evaluate(const RheologyInputs& in, RheologyOutputs& out) const = 0;
+  /// @brief True when eta depends on the solution (the problem is then nonlinear).
+  virtual bool is_nonlinear() const = 0;
+};
+
+/// @brief Constant viscosity (Newtonian verification cases).
+class NewtonianViscosity final : public ViscosityModel {
+ public:
+  /// @param viscosity Pa s
+  explicit NewtonianViscosity(double viscosity) : eta_(viscosity) {}
+  void evaluate(const RheologyInputs& in, RheologyOutputs& out) const override;
+  bool is_nonlinear() const override { return false; }
+
+ private:
+  double eta_;
+};
+
+/// @brief The mu(I) rheology of Jop, Forterre & Pouliquen (Nature 2006), regularised.
+///
+/// mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1),  I = 2 |D| d / sqrt(p+ / rho_s),  p+ = max(p, 0)
+/// (the pressure is clamped here, never in the solution).
+///  - chauchat_medale: eta = mu(I) p+ / (2 sqrt(|D|^2 + delta^2))  (Chauchat & Medale, JCP 2014),
+///    with I computed from the unregularised |D|;
+///  - barker_gray: eta = mu_BG(I) p+ / (2 |D|), mu_BG = mu(I) for I >= I_N and
+///    sqrt(alpha / ln(A / I)) below (Barker & Gray, JFM 2017), alpha, A from C1 continuity at I_N.
+/// Both are then limited to [eta_min, eta_max]; outside it the derivatives are zero.
+class MuIRheology final : public ViscosityModel {
+ public:
+  explicit MuIRheology(const RheologyParams& params);
+  void evaluate(const RheologyInputs& in, RheologyOutputs& out) const override;
+  bool is_nonlinear() const override { return true; }
+
+  /// @brief Friction coefficient mu(I) of the selected regularisation (dimensionless).
+  double friction(double inertial_number) const;
+  /// @brief d mu / d I.
+  double dfriction_dI(double inertial_number) const;
+  /// @brief Inverse of the unregularised mu(I) for mu_s < mu < mu_2 (used by tests).
+  double inertial_number_for_friction(double mu) const;
+  const RheologyParams& params() const { return p_; }
+
+ private:
+  RheologyParams p_;
+  double bg_alpha_ = 0, bg_A_ = 0;  // Barker & Gray low-I branch
+};
+
+}  // namespace grainlift::continuum

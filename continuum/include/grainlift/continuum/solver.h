@@ -1,0 +1,28 @@
+// Entry point of the continuum (finite-element) engine. deal.II-free.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "grainlift/continuum/continuum_config.h"
+
+namespace grainlift::continuum {
+
+/// @brief Solve the steady 2D incompressible mu(I) flow around a translating, spinning cylinder.
+///
+/// The problem is posed in the intruder frame (intruder centred at the origin): the far field
+/// moves at -V, the intruder surface at omega x r. See docs/continuum-model.md for the model,
+/// the boundary conditions and the numerics.
+///
+/// @param config  case description (SI units, see continuum_config.h)
+/// @param log     optional sink for one-line progress messages (nonlinear iterations etc.)
+/// @return forces, surface stresses, sampled fields and convergence information. A run that
+///         does not converge returns converged = false and a message; it never aborts.
+/// @throws ConfigError when a configuration value is out of range.
+ContinuumOutput solve_flow(const ContinuumConfig& config,
+                           const std::function<void(const std::string&)>& log = {});
+
+/// @brief Check a configuration without solving. @throws ConfigError naming the bad field.
+void validate_config(const ContinuumConfig& config);
+
+}  // namespace grainlift::continuum

@@ -1,0 +1,77 @@
+// Verification drivers of the continuum engine: small problems with known solutions, run
+// through the same finite-element engine as solve_flow(). deal.II-free; used by the tests in
+// tests/continuum and by anyone who wants to re-measure the numbers in docs/continuum-model.md.
+#pragma once
+
+#include "grainlift/continuum/continuum_config.h"
+
+namespace grainlift::continuum::verification {
+
+/// Result of the rotating cylinder in a Newtonian annulus (circular Couette flow).
+struct CouetteResult {
+  double torque_reaction = 0;  ///< N, torque of the fluid on the inner cylinder (consistent reaction)
+  double torque_surface = 0;   ///< N, same by integrating sigma.n over the cylinder
+  double torque_exact = 0;     ///< N, -4 pi eta omega R1^2 R2^2 / (R2^2 - R1^2)
+  double fx = 0, fy = 0;       ///< N/m, net force on the inner cylinder (exactly 0)
+  double velocity_l2_error = 0;
+  int cells = 0, dofs = 0;
+};
+
+/// @brief Inner cylinder (radius @p R1, m) spinning at @p omega (rad/s) inside a fixed outer one
+/// (radius @p R2) filled with a fluid of viscosity @p eta (Pa s); @p refinement global refinements.
+CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double omega,
+                                        int refinement);
+
+/// Errors of one manufactured-solution run on the unit square.
+struct ManufacturedResult {
+  double h = 0;               ///< m, cell size
+  double velocity_l2 = 0;     ///< m^3/s... (L2 norm of u_h - u)
+  double velocity_h1 = 0;     ///< H1 seminorm of u_h - u
+  double pressure_l2 = 0;     ///< L2 norm of p_h - p
+  int dofs = 0, nonlinear_iterations = 0;
+  bool converged = false;
+};
+
+/// @brief Newtonian Stokes (eta = 1) on [0,1]^2 with u = (pi sin^2(pi x) sin(2 pi y),
+/// -pi sin(2 pi x) sin^2(pi y)), p = cos(pi x) cos(pi y); Dirichlet on three sides, the exact
+/// traction on x = 1 (which fixes the pressure level); 2^refinement cells per side.
+ManufacturedResult manufactured_stokes(int refinement);
+
+/// @brief Same velocity with p = 2 + cos(pi x) cos(pi y) and the regularised mu(I) viscosity
+/// of @p params; the body force is -div sigma of the exact fields (central differences).
+ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params);
+
+/// Finite-difference check of the Newton Jacobian.
+struct JacobianCheck {
+  double max_abs_difference = 0;  ///< max_i |(J d)_i - FD_i| over unconstrained rows
+  double max_abs_reference = 0;   ///< max_i |FD_i|
+  double relative_error() const { return max_abs_difference / max_abs_reference; }
+};
+
+/// @brief Compare J(x) d with (R(x + h d) - R(x - h d)) / 2h at a smooth state x (mu(I) with
+/// @p params, p > 0) on a small unit-square mesh with a Dirichlet side, a traction side and,
+/// when @p friction_wall, a regularised Coulomb wall; @p inertia adds rho (u.grad)u.
+JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall);
+
+/// Steady mu(I) layer down an incline of slope theta with an overburden P_top and a shear
+/// traction P_top tan(theta) on its surface, so that tau / p = tan(theta) everywhere:
+/// I = I_beta = mu^{-1}(tan theta) and u(z) = 2 I_beta / (3 d sqrt(rho_s) G)
+/// [(P_top + G h)^{3/2} - (P_top + G (h - z))^{3/2}], G = rho g cos(theta) (Bagnold profile).
+struct InclineSpec {
+  double slope = 0.463647609;   ///< rad (tan = 0.5)
+  double depth = 0.03;          ///< m
+  double overburden = 40;       ///< Pa, P_top
+  double bulk_density = 1500;   ///< kg/m^3
+  double gravity = 9.81;        ///< m/s^2
+  int cells_across = 16;        ///< cells through the depth
+  RheologyParams rheology;
+};
+struct InclineResult {
+  double max_relative_error = 0;  ///< max |u_h - u| / u_surface at the nodes
+  double surface_velocity = 0, surface_velocity_exact = 0;  ///< m/s
+  int picard_steps = 0, newton_steps = 0;
+  bool converged = false;
+};
+InclineResult incline_layer(const InclineSpec& spec);
+
+}  // namespace grainlift::continuum::verification

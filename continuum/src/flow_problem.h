@@ -1,0 +1,157 @@
+// Internal: the deal.II finite-element engine shared by solve_flow() and the verification
+// drivers. Steady incompressible generalised-Newtonian flow, Taylor-Hood Q2-Q1, Picard then
+// Newton with a backtracking line search, direct (UMFPACK) linear solves.
+// This header includes deal.II: never include it from a public header.
+#pragma once
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/grid_tools_cache.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "grainlift/continuum/mu_i_rheology.h"
+
+namespace grainlift::continuum::internal {
+
+constexpr int dim = 2;
+using Point2 = dealii::Point<dim>;
+using Vec2 = dealii::Tensor<1, dim>;
+using VectorField = std::function<Vec2(const Point2&)>;
+using ScalarField = std::function<double(const Point2&)>;
+
+/// Regularised Coulomb wall: u.n = 0 strongly, tangential traction on the medium
+/// -mu_w p+ s / sqrt(s^2 + eps^2) along the tangent, s the slip (u - u_wall).t.
+struct FrictionWall {
+  dealii::types::boundary_id id = 0;
+  VectorField wall_velocity;  ///< m/s, tangential velocity of the wall
+  double mu_w = 0.5;
+  double slip_scale = 1e-3;   ///< m/s, eps
+};
+
+struct BoundarySpec {
+  std::map<dealii::types::boundary_id, VectorField> dirichlet;  ///< imposed velocity
+  /// imposed traction sigma.n (n the outward normal of the medium), given x and n
+  std::map<dealii::types::boundary_id, std::function<Vec2(const Point2&, const Vec2&)>> traction;
+  std::optional<FrictionWall> friction;
+  /// pairs of boundary ids identified by periodicity along x
+  std::vector<std::pair<dealii::types::boundary_id, dealii::types::boundary_id>> periodic_x;
+  bool pin_pressure = false;  ///< fix one pressure dof (all-Dirichlet problems) to initial_pressure
+};
+
+struct NonlinearSettings {
+  double relative_tolerance = 1e-8;  ///< ||R_k|| <= tol ||R_0||
+  double absolute_tolerance = 1e-300;
+  int max_iterations = 50;
+  int picard_iterations = 5;
+};
+
+struct ProblemSetup {
+  VectorField body_force;                 ///< N/m^3 (e.g. rho g); empty = none
+  BoundarySpec bc;
+  const ViscosityModel* viscosity = nullptr;
+  double inertia_density = 0;             ///< kg/m^3; 0 = Stokes (no rho (u.grad)u)
+  NonlinearSettings nonlinear;
+  VectorField initial_velocity;           ///< empty = 0
+  ScalarField initial_pressure;           ///< empty = 0
+  std::function<void(const std::string&)> log;
+};
+
+struct NonlinearReport {
+  int picard_steps = 0, newton_steps = 0, linear_solves = 0;
+  double initial_residual = 0, final_residual = 0;
+  bool converged = false;
+  std::string message;
+};
+
+struct ForceTorque { double fx = 0, fy = 0, torque = 0; };
+
+/// Stress state evaluated at one point.
+struct PointState {
+  Vec2 velocity;
+  double pressure = 0, viscosity = 0, inertial_number = 0;
+  dealii::SymmetricTensor<2, dim> stress;  ///< sigma = -p I + 2 eta D
+};
+
+class FlowProblem {
+ public:
+  FlowProblem(dealii::Triangulation<dim>& tria, const ProblemSetup& setup);
+
+  /// setup_system(), initial guess, then the nonlinear iterations.
+  void run();
+
+  void setup_system();
+  /// Assemble the residual R(state) (constrained rows zero) and, if @p matrix, the Jacobian
+  /// (@p newton) or the Picard matrix (eta frozen) into system_matrix.
+  double assemble_system(const dealii::Vector<double>& state, bool matrix, bool newton,
+                         dealii::Vector<double>& residual);
+  /// Solve system_matrix * update = -residual with UMFPACK; update satisfies zero constraints.
+  void solve(const dealii::Vector<double>& residual, dealii::Vector<double>& update);
+  void output_results(const std::string& directory, const std::string& basename) const;
+
+  // ---- post-processing
+  /// Force and torque (about @p centre) of the medium on the boundary @p id from the
+  /// consistent reaction (unconstrained volume residual tested with rigid motions).
+  ForceTorque reaction(dealii::types::boundary_id id, const Point2& centre) const;
+  /// Same by integration of sigma.n over the boundary faces (diagnostic).
+  ForceTorque surface_integral(dealii::types::boundary_id id, const Point2& centre) const;
+  /// State at a boundary point of @p id closest in angle to @p angle about @p centre.
+  PointState boundary_state(dealii::types::boundary_id id, const Point2& centre, double angle,
+                            Vec2& normal_out_of_medium, Point2& where) const;
+  /// State at an arbitrary point; false when the point is not in the mesh.
+  bool point_state(const Point2& x, PointState& out) const;
+  /// L2 velocity, H1-seminorm velocity and L2 pressure errors against exact fields
+  /// (pressure compared after removing the mean difference when @p remove_mean_pressure).
+  std::array<double, 3> errors(const VectorField& u, const std::function<dealii::Tensor<2, dim>(const Point2&)>& grad_u,
+                               const ScalarField& p, bool remove_mean_pressure) const;
+
+  // ---- access
+  const dealii::DoFHandler<dim>& dof_handler() const { return dof_handler_; }
+  const dealii::Vector<double>& solution() const { return solution_; }
+  dealii::Vector<double>& solution() { return solution_; }
+  const dealii::SparseMatrix<double>& system_matrix() const { return system_matrix_; }
+  const dealii::AffineConstraints<double>& zero_constraints() const { return zero_constraints_; }
+  const dealii::AffineConstraints<double>& nonzero_constraints() const { return nonzero_constraints_; }
+  const NonlinearReport& report() const { return report_; }
+  const dealii::Mapping<dim>& mapping() const { return mapping_; }
+  void interpolate_initial_guess();
+
+ private:
+  void make_constraints(dealii::AffineConstraints<double>& c, bool homogeneous) const;
+  /// Residual (and matrix when @p matrix != nullptr) at @p state. With @p reaction_mode, only
+  /// the volume terms, added without constraints (for the reaction forces).
+  double assemble_impl(const dealii::Vector<double>& state, dealii::SparseMatrix<double>* matrix,
+                       bool newton, dealii::Vector<double>& residual, bool reaction_mode) const;
+  PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u) const;
+  void log(const std::string& s) const { if (setup_.log) setup_.log(s); }
+
+  dealii::Triangulation<dim>& tria_;
+  ProblemSetup setup_;
+  dealii::FESystem<dim> fe_;
+  dealii::MappingQ<dim> mapping_;
+  dealii::DoFHandler<dim> dof_handler_;
+  dealii::AffineConstraints<double> zero_constraints_, nonzero_constraints_;
+  dealii::SparsityPattern sparsity_;
+  dealii::SparseMatrix<double> system_matrix_;
+  dealii::Vector<double> solution_;
+  NonlinearReport report_;
+  mutable std::unique_ptr<dealii::GridTools::Cache<dim>> cache_;
+};
+
+}  // namespace grainlift::continuum::internal

@@ -1,0 +1,102 @@
+// mu(I) and Newtonian viscosity kernels. Formulas: Jop, Forterre & Pouliquen, Nature 441 (2006)
+// eq. (2)-(3); Chauchat & Medale, JCP 256 (2014) eq. (9); Barker & Gray, JFM 828 (2017) sec. 3.
+#include "grainlift/continuum/mu_i_rheology.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace grainlift::continuum {
+
+namespace {
+// Floor of |D| where a division by |D| cannot be avoided. The Newton terms that use
+// d eta / d|D|^2 multiply it by (D:D_phi)^2 ~ |D|^2, so the product stays finite.
+constexpr double kStrainFloor = 1e-100;
+
+double mu_jop(const RheologyParams& p, double I) {
+  // mu(I) = mu_s + (mu_2 - mu_s) I / (I_0 + I)
+  return p.mu_s + (p.mu_2 - p.mu_s) * I / (p.I0 + I);
+}
+double dmu_jop(const RheologyParams& p, double I) {
+  return (p.mu_2 - p.mu_s) * p.I0 / ((p.I0 + I) * (p.I0 + I));
+}
+}  // namespace
+
+void NewtonianViscosity::evaluate(const RheologyInputs& in, RheologyOutputs& out) const {
+  for (std::size_t q = 0; q < in.size(); ++q) {
+    out.viscosity[q] = eta_;
+    out.deta_dstrain_sq[q] = 0;
+    out.deta_dpressure[q] = 0;
+    out.friction[q] = 0;
+    out.inertial_number[q] = 0;
+  }
+}
+
+MuIRheology::MuIRheology(const RheologyParams& params) : p_(params) {
+  if (p_.regularisation == Regularisation::barker_gray) {
+    // C1 continuity at I_N of sqrt(alpha / ln(A / I)):
+    //   alpha = mu_N^3 / (2 I_N mu'_N),  A = I_N exp(alpha / mu_N^2).
+    const double IN = p_.barker_gray_IN;
+    const double muN = mu_jop(p_, IN), dmuN = dmu_jop(p_, IN);
+    bg_alpha_ = muN * muN * muN / (2 * IN * dmuN);
+    bg_A_ = IN * std::exp(bg_alpha_ / (muN * muN));
+  }
+}
+
+double MuIRheology::friction(double I) const {
+  if (!std::isfinite(I)) return p_.mu_2;
+  if (p_.regularisation == Regularisation::barker_gray && I < p_.barker_gray_IN) {
+    if (I <= 0) return 0;
+    return std::sqrt(bg_alpha_ / std::log(bg_A_ / I));
+  }
+  return mu_jop(p_, I);
+}
+
+double MuIRheology::dfriction_dI(double I) const {
+  if (!std::isfinite(I)) return 0;
+  if (p_.regularisation == Regularisation::barker_gray && I < p_.barker_gray_IN) {
+    if (I <= 0) return 0;
+    const double mu = friction(I);
+    return mu * mu * mu / (2 * bg_alpha_ * I);  // d/dI sqrt(alpha / ln(A/I))
+  }
+  return dmu_jop(p_, I);
+}
+
+double MuIRheology::inertial_number_for_friction(double mu) const {
+  return p_.I0 * (mu - p_.mu_s) / (p_.mu_2 - mu);
+}
+
+void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const {
+  const bool cm = p_.regularisation == Regularisation::chauchat_medale;
+  const double d = p_.grain_diameter, rho_s = p_.solid_density, delta2 = p_.delta * p_.delta;
+  for (std::size_t q = 0; q < in.size(); ++q) {
+    const double s = std::max(in.strain_rate_sq[q], 0.0);  // |D|^2
+    const double g = std::max(std::sqrt(s), kStrainFloor);  // |D|
+    const double pe = std::max(in.pressure[q], 0.0);         // pressure clamped in the rheology only
+    // I = 2 |D| d / sqrt(p / rho_s); dI/ds = I / (2 s); dI/dp = -I / (2 p)
+    const double I = pe > 0 ? 2 * g * d * std::sqrt(rho_s / pe)
+                            : std::numeric_limits<double>::infinity();
+    const double mu = friction(I), dmu = dfriction_dI(I);
+    // denominator 2 gd with gd = sqrt(|D|^2 + delta^2) (Chauchat-Medale) or |D| (Barker-Gray)
+    const double gd = cm ? std::sqrt(s + delta2) : g;
+    double eta = mu * pe / (2 * gd);
+    double deta_ds = 0, deta_dp = 0;
+    if (pe > 0) {
+      const double dI_ds = d * std::sqrt(rho_s / pe) / g;  // = I / (2 s)
+      deta_ds = pe / (2 * gd) * dmu * dI_ds - mu * pe / (4 * gd * gd * gd);
+      deta_dp = (mu - 0.5 * I * dmu) / (2 * gd);
+    }
+    if (eta > p_.eta_max) {
+      eta = p_.eta_max; deta_ds = 0; deta_dp = 0;
+    } else if (eta < p_.eta_min) {
+      eta = p_.eta_min; deta_ds = 0; deta_dp = 0;
+    }
+    out.viscosity[q] = eta;
+    out.deta_dstrain_sq[q] = deta_ds;
+    out.deta_dpressure[q] = deta_dp;
+    out.friction[q] = mu;
+    out.inertial_number[q] = std::isfinite(I) ? I : std::numeric_limits<double>::max();
+  }
+}
+
+}  // namespace grainlift::continuum

@@ -1,0 +1,222 @@
+// solve_flow(): the cylinder problem (geometry, boundary conditions, outputs) on top of the
+// FlowProblem engine. Conventions: docs/continuum-model.md and shared/reference/targets.md.
+#include "grainlift/continuum/solver.h"
+
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/tria.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "flow_problem.h"
+#include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/mu_i_rheology.h"
+
+namespace grainlift::continuum {
+
+using namespace dealii;
+using internal::FlowProblem;
+using internal::Point2;
+using internal::ProblemSetup;
+using internal::Vec2;
+
+namespace {
+
+// Boundary ids of GridGenerator::plate_with_a_hole(colorize = true).
+constexpr types::boundary_id kLeft = 0, kRight = 1, kBottom = 2, kTop = 3, kHole = 4;
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw ConfigError("continuum: " + what);
+}
+
+bool finite(double x) { return std::isfinite(x); }
+
+}  // namespace
+
+void validate_config(const ContinuumConfig& c) {
+  const double R = 0.5 * c.intruder_diameter;
+  require(finite(c.intruder_diameter) && c.intruder_diameter > 0, "intruder_diameter must be > 0");
+  require(finite(c.half_width) && c.half_width >= 2 * R, "half_width must be >= intruder_diameter");
+  require(finite(c.half_height) && c.half_height >= 2 * R, "half_height must be >= intruder_diameter");
+  require(finite(c.intruder_velocity[0]) && finite(c.intruder_velocity[1]), "intruder_velocity must be finite");
+  require(finite(c.intruder_omega), "intruder_omega must be finite");
+  require(finite(c.gravity[0]) && finite(c.gravity[1]), "gravity must be finite");
+  require(finite(c.bulk_density) && c.bulk_density > 0, "bulk_density must be > 0");
+  require(finite(c.ambient_pressure) && c.ambient_pressure > 0, "ambient_pressure must be > 0");
+  // the lithostatic pressure P0 + rho g.x must stay positive on the box
+  for (const double sx : {-1.0, 1.0})
+    for (const double sy : {-1.0, 1.0}) {
+      const double p = c.ambient_pressure + c.bulk_density * (c.gravity[0] * sx * c.half_width +
+                                                              c.gravity[1] * sy * c.half_height);
+      require(p > 0, "ambient_pressure too small: the lithostatic pressure P0 + rho g.x is <= 0 in a corner of the box");
+    }
+  const RheologyParams& r = c.rheology;
+  require(r.mu_s >= 0 && r.mu_2 > r.mu_s, "rheology needs 0 <= mu_s < mu_2");
+  require(r.I0 > 0, "rheology I0 must be > 0");
+  require(r.grain_diameter > 0, "rheology grain_diameter must be > 0");
+  require(r.solid_density > 0, "rheology solid_density must be > 0");
+  require(r.delta >= 0, "rheology delta must be >= 0");
+  require(r.regularisation != Regularisation::chauchat_medale || r.delta > 0 || r.eta_max < HUGE_VAL,
+          "chauchat_medale needs delta > 0 or a finite eta_max");
+  require(r.eta_min >= 0 && r.eta_max > r.eta_min, "rheology needs 0 <= eta_min < eta_max");
+  require(r.barker_gray_IN > 0 && r.barker_gray_IN < 1, "rheology barker_gray_IN must be in (0, 1)");
+  require(c.wall_friction >= 0, "wall_friction must be >= 0");
+  require(c.wall_slip_regularisation >= 0, "wall_slip_regularisation must be >= 0");
+  require(c.inertia_threshold >= 0, "inertia_threshold must be >= 0");
+  require(c.refinement >= 0 && c.refinement <= 7, "refinement must be in [0, 7]");
+  require(c.adaptive_cycles == 0, "adaptive_cycles > 0 is not implemented (use refinement)");
+  require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1, "nonlinear_tolerance must be in (0, 1)");
+  require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
+  require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
+  require(c.linear_solver == LinearSolver::direct,
+          "linear_solver = amg is not implemented; use direct (UMFPACK)");
+  for (const double t : c.surface_theta) require(finite(t), "surface_theta values must be finite");
+  if (c.fields.enabled)
+    require(c.fields.spacing > 0 && c.fields.nx > 0 && c.fields.ny > 0,
+            "fields need spacing > 0, nx > 0 and ny > 0");
+}
+
+ContinuumOutput solve_flow(const ContinuumConfig& c,
+                           const std::function<void(const std::string&)>& log) {
+  validate_config(c);
+  const auto say = [&log](const std::string& s) { if (log) log(s); };
+  ContinuumOutput out;
+  try {
+    const double R = 0.5 * c.intruder_diameter, W = c.half_width, H = c.half_height;
+    const Vec2 V({c.intruder_velocity[0], c.intruder_velocity[1]});
+    const Vec2 g({c.gravity[0], c.gravity[1]});
+    const double omega = c.intruder_omega, rho = c.bulk_density, P0 = c.ambient_pressure;
+    const double speed = V.norm();
+
+    // ---- mesh: a square block of half-size b with the hole (polar manifold on the hole,
+    // transfinite interpolation in the block) padded to the box; refined globally.
+    Triangulation<internal::dim> tria;
+    const double b = std::min(2.5 * R, 0.999 * std::min(W, H));
+    GridGenerator::plate_with_a_hole(tria, R, b, H - b, H - b, W - b, W - b, Point2(), 0, 1, 1.0, 2,
+                                     true);
+    tria.refine_global(c.refinement);
+
+    // ---- physics
+    MuIRheology rheology(c.rheology);
+    const auto p_lith = [=](const Point2& x) { return P0 + rho * (g * x); };  // P0 + rho g.x
+    ProblemSetup setup;
+    setup.viscosity = &rheology;
+    setup.log = log;
+    if (g.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g); };
+    const double vref = std::max(speed, std::abs(omega) * R);
+    switch (c.inertia) {
+      case InertiaMode::off: break;
+      case InertiaMode::on: setup.inertia_density = rho; break;
+      case InertiaMode::automatic:
+        if (rho * vref * vref / P0 >= c.inertia_threshold) setup.inertia_density = rho;
+        break;
+    }
+    out.inertia_used = setup.inertia_density > 0;
+
+    // far field: Dirichlet u = -V where the flow enters or slides along the box, the
+    // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
+    const auto far_velocity = [=](const Point2&) { return Vec2(-V); };
+    const auto lithostatic = [=](const Point2& x, const Vec2& n) { return Vec2(-p_lith(x) * n); };
+    const std::pair<types::boundary_id, Vec2> sides[] = {{kLeft, Vec2({-1, 0})},
+                                                         {kRight, Vec2({1, 0})},
+                                                         {kBottom, Vec2({0, -1})},
+                                                         {kTop, Vec2({0, 1})}};
+    for (const auto& [id, n] : sides) {
+      if (speed == 0 || (-V) * n > 1e-12 * speed)
+        setup.bc.traction[id] = lithostatic;
+      else
+        setup.bc.dirichlet[id] = far_velocity;
+    }
+    const auto wall_velocity = [omega](const Point2& x) { return Vec2({-omega * x[1], omega * x[0]}); };
+    if (c.wall == WallCondition::no_slip) {
+      setup.bc.dirichlet[kHole] = wall_velocity;
+    } else {
+      internal::FrictionWall w;
+      w.id = kHole;
+      w.wall_velocity = wall_velocity;
+      w.mu_w = c.wall_friction;
+      w.slip_scale = c.wall_slip_regularisation > 0 ? c.wall_slip_regularisation
+                                                    : std::max(1e-3 * vref, 1e-12);
+      setup.bc.friction = w;
+    }
+    setup.initial_velocity = far_velocity;
+    setup.initial_pressure = p_lith;
+    setup.nonlinear.relative_tolerance = c.nonlinear_tolerance;
+    setup.nonlinear.max_iterations = c.max_nonlinear_iterations;
+    setup.nonlinear.picard_iterations = c.picard_iterations;
+
+    FlowProblem problem(tria, setup);
+    problem.run();
+    const auto& rep = problem.report();
+    out.converged = rep.converged;
+    out.message = rep.message;
+    out.picard_steps = rep.picard_steps;
+    out.newton_steps = rep.newton_steps;
+    out.nonlinear_iterations = rep.picard_steps + rep.newton_steps;
+    out.linear_iterations = rep.linear_solves;
+    out.initial_residual = rep.initial_residual;
+    out.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
+    out.cells = static_cast<int>(tria.n_active_cells());
+    out.dofs = static_cast<int>(problem.dof_handler().n_dofs());
+
+    // ---- forces: consistent reaction on the hole, surface integral as a diagnostic
+    const auto reac = problem.reaction(kHole, Point2());
+    const auto surf = problem.surface_integral(kHole, Point2());
+    out.fx = reac.fx;
+    out.fy = reac.fy;
+    out.torque = reac.torque;
+    out.force_fx_surface = surf.fx;
+    out.force_fy_surface = surf.fy;
+    out.torque_surface = surf.torque;
+    {
+      std::ostringstream os;
+      os << "continuum: force (" << reac.fx << ", " << reac.fy << ") N/m, torque " << reac.torque
+         << " N [surface integral (" << surf.fx << ", " << surf.fy << "), " << surf.torque << "]";
+      say(os.str());
+    }
+
+    // ---- surface stresses at theta measured from V counter-clockwise
+    const double phi0 = speed > 0 ? std::atan2(V[1], V[0]) : 0.0;
+    for (const double theta : c.surface_theta) {
+      Vec2 n_medium;
+      Point2 where;
+      const auto st = problem.boundary_state(kHole, Point2(), phi0 + theta, n_medium, where);
+      const Vec2 n_body = -n_medium;                    // outward normal of the intruder
+      const Vec2 t = st.stress * n_body;                 // traction of the medium on the intruder
+      const Vec2 e_phi({-n_body[1], n_body[0]});         // counter-clockwise tangent
+      out.sigma_n.push_back(-(t * n_body));              // > 0 compressive
+      out.sigma_t.push_back(t * e_phi);                  // > 0 pulls the surface counter-clockwise
+    }
+
+    // ---- fields on the grid (intruder frame)
+    if (c.fields.enabled) {
+      const std::size_t n = static_cast<std::size_t>(c.fields.nx) * c.fields.ny;
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      for (auto* v : {&out.vx, &out.vy, &out.pressure, &out.sxx, &out.sxy, &out.syy}) v->assign(n, nan);
+      internal::PointState st;
+      for (int j = 0; j < c.fields.ny; ++j)
+        for (int i = 0; i < c.fields.nx; ++i) {
+          const Point2 x(c.fields.x0 + i * c.fields.spacing, c.fields.y0 + j * c.fields.spacing);
+          if (x.norm() < R || !problem.point_state(x, st)) continue;
+          const std::size_t k = static_cast<std::size_t>(j) * c.fields.nx + i;
+          out.vx[k] = st.velocity[0];
+          out.vy[k] = st.velocity[1];
+          out.pressure[k] = st.pressure;
+          out.sxx[k] = st.stress[0][0];
+          out.sxy[k] = st.stress[0][1];
+          out.syy[k] = st.stress[1][1];
+        }
+    }
+    if (!c.vtu_directory.empty()) problem.output_results(c.vtu_directory, "continuum");
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    out.converged = false;
+    out.message = std::string("continuum solver failed: ") + e.what();
+  }
+  return out;
+}
+
+}  // namespace grainlift::continuum

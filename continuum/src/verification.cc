@@ -1,0 +1,272 @@
+// Verification drivers: problems with known solutions run through FlowProblem.
+#include "grainlift/continuum/verification.h"
+
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/tria.h>
+
+#include <cmath>
+
+#include "flow_problem.h"
+#include "grainlift/continuum/mu_i_rheology.h"
+
+namespace grainlift::continuum::verification {
+
+using namespace dealii;
+using internal::dim;
+using internal::FlowProblem;
+using internal::Point2;
+using internal::ProblemSetup;
+using internal::Vec2;
+using Grad = Tensor<2, dim>;
+
+CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double omega,
+                                        int refinement) {
+  Triangulation<dim> tria;
+  GridGenerator::hyper_shell(tria, Point2(), R1, R2, 8, true);  // ids: 0 inner, 1 outer
+  tria.refine_global(refinement);
+  NewtonianViscosity visc(eta);
+  ProblemSetup setup;
+  setup.viscosity = &visc;
+  setup.bc.dirichlet[0] = [omega](const Point2& x) { return Vec2({-omega * x[1], omega * x[0]}); };
+  setup.bc.dirichlet[1] = [](const Point2&) { return Vec2(); };
+  setup.bc.pin_pressure = true;
+  FlowProblem problem(tria, setup);
+  problem.run();
+
+  CouetteResult r;
+  const auto reac = problem.reaction(0, Point2());
+  const auto surf = problem.surface_integral(0, Point2());
+  r.torque_reaction = reac.torque;
+  r.torque_surface = surf.torque;
+  r.fx = reac.fx;
+  r.fy = reac.fy;
+  r.torque_exact = -4 * M_PI * eta * omega * R1 * R1 * R2 * R2 / (R2 * R2 - R1 * R1);
+  // u_theta = A r + B / r
+  const double A = -omega * R1 * R1 / (R2 * R2 - R1 * R1);
+  const double B = omega * R1 * R1 * R2 * R2 / (R2 * R2 - R1 * R1);
+  const auto u = [A, B](const Point2& x) {
+    const double r2 = x.norm_square(), ut_over_r = A + B / r2;
+    return Vec2({-ut_over_r * x[1], ut_over_r * x[0]});
+  };
+  const auto grad = [A, B](const Point2& x) {
+    // u = (A + B/r^2) (-y, x)
+    const double r2 = x.norm_square(), f = A + B / r2;
+    const double fx = -2 * B * x[0] / (r2 * r2), fy = -2 * B * x[1] / (r2 * r2);
+    Grad g;
+    g[0][0] = -fx * x[1];
+    g[0][1] = -fy * x[1] - f;
+    g[1][0] = fx * x[0] + f;
+    g[1][1] = fy * x[0];
+    return g;
+  };
+  r.velocity_l2_error = problem.errors(u, grad, [](const Point2&) { return 0.0; }, true)[0];
+  r.cells = static_cast<int>(tria.n_active_cells());
+  r.dofs = static_cast<int>(problem.dof_handler().n_dofs());
+  return r;
+}
+
+namespace {
+
+// Divergence-free manufactured velocity and its gradient.
+Vec2 mms_u(const Point2& x) {
+  const double sx = std::sin(M_PI * x[0]), sy = std::sin(M_PI * x[1]);
+  return Vec2({M_PI * sx * sx * std::sin(2 * M_PI * x[1]), -M_PI * std::sin(2 * M_PI * x[0]) * sy * sy});
+}
+Grad mms_grad(const Point2& x) {
+  const double pi2 = M_PI * M_PI;
+  const double sx = std::sin(M_PI * x[0]), sy = std::sin(M_PI * x[1]);
+  Grad g;
+  g[0][0] = pi2 * std::sin(2 * M_PI * x[0]) * std::sin(2 * M_PI * x[1]);
+  g[0][1] = 2 * pi2 * sx * sx * std::cos(2 * M_PI * x[1]);
+  g[1][0] = -2 * pi2 * std::cos(2 * M_PI * x[0]) * sy * sy;
+  g[1][1] = -g[0][0];
+  return g;
+}
+
+/// sigma = -p I + 2 eta(|D|^2, p) D of exact fields.
+Grad exact_stress(const ViscosityModel& visc, const Point2& x,
+                  const std::function<double(const Point2&)>& p) {
+  const Grad g = mms_grad(x);
+  const Grad D = 0.5 * (g + transpose(g));
+  RheologyInputs in;
+  in.resize(1);
+  RheologyOutputs out;
+  out.resize(1);
+  in.strain_rate_sq[0] = 0.5 * scalar_product(D, D);
+  in.pressure[0] = p(x);
+  visc.evaluate(in, out);
+  Grad s = 2 * out.viscosity[0] * D;
+  s[0][0] -= in.pressure[0];
+  s[1][1] -= in.pressure[0];
+  return s;
+}
+
+ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
+                                    const std::function<double(const Point2&)>& p_exact) {
+  Triangulation<dim> tria;
+  GridGenerator::hyper_cube(tria, 0, 1, true);  // ids 0: x=0, 1: x=1, 2: y=0, 3: y=1
+  tria.refine_global(refinement);
+  ProblemSetup setup;
+  setup.viscosity = &visc;
+  for (const types::boundary_id id : {0, 2, 3}) setup.bc.dirichlet[id] = mms_u;
+  setup.bc.traction[1] = [&visc, p_exact](const Point2& x, const Vec2& n) {
+    return Vec2(exact_stress(visc, x, p_exact) * n);
+  };
+  // f = -div sigma by central differences of the exact stress (error ~1e-10)
+  setup.body_force = [&visc, p_exact](const Point2& x) {
+    const double h = 1e-5;
+    Vec2 f;
+    for (unsigned int j = 0; j < dim; ++j) {
+      Point2 xp = x, xm = x;
+      xp[j] += h;
+      xm[j] -= h;
+      const Grad ds = (exact_stress(visc, xp, p_exact) - exact_stress(visc, xm, p_exact)) / (2 * h);
+      for (unsigned int i = 0; i < dim; ++i) f[i] -= ds[i][j];
+    }
+    return f;
+  };
+  // start from rest at the mean pressure (not from the answer)
+  const double p_mean = p_exact(Point2(0.5, 0.5));
+  setup.initial_pressure = [p_mean](const Point2&) { return p_mean; };
+  setup.nonlinear.relative_tolerance = 1e-12;
+  setup.nonlinear.max_iterations = 40;
+  setup.nonlinear.picard_iterations = 3;
+  FlowProblem problem(tria, setup);
+  problem.run();
+  const auto e = problem.errors(mms_u, mms_grad, p_exact, false);
+  ManufacturedResult r;
+  r.h = 1.0 / (1 << refinement);
+  r.velocity_l2 = e[0];
+  r.velocity_h1 = e[1];
+  r.pressure_l2 = e[2];
+  r.dofs = static_cast<int>(problem.dof_handler().n_dofs());
+  r.nonlinear_iterations = problem.report().picard_steps + problem.report().newton_steps;
+  r.converged = problem.report().converged;
+  return r;
+}
+
+}  // namespace
+
+ManufacturedResult manufactured_stokes(int refinement) {
+  NewtonianViscosity visc(1.0);
+  return run_manufactured(refinement, visc,
+                          [](const Point2& x) { return std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); });
+}
+
+ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params) {
+  MuIRheology visc(params);
+  return run_manufactured(refinement, visc, [](const Point2& x) {
+    return 2 + std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]);
+  });
+}
+
+JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall) {
+  Triangulation<dim> tria;
+  GridGenerator::hyper_cube(tria, 0, 1, true);
+  tria.refine_global(2);
+  MuIRheology visc(params);
+  ProblemSetup setup;
+  setup.viscosity = &visc;
+  setup.bc.dirichlet[0] = mms_u;
+  setup.bc.dirichlet[3] = mms_u;
+  setup.bc.traction[1] = [](const Point2& x, const Vec2& n) { return Vec2(-(2 + x[1]) * n); };
+  if (friction_wall) {
+    internal::FrictionWall w;
+    w.id = 2;
+    w.wall_velocity = [](const Point2&) { return Vec2({0.3, 0}); };
+    w.mu_w = 0.4;
+    w.slip_scale = 0.2;
+    setup.bc.friction = w;
+  } else {
+    setup.bc.dirichlet[2] = mms_u;
+  }
+  setup.inertia_density = inertia ? 0.7 : 0.0;
+  setup.body_force = [](const Point2& x) { return Vec2({1 + x[1], -2.0}); };
+  // smooth state with p > 0 and a velocity that does not vanish on the friction wall
+  setup.initial_velocity = [](const Point2& x) {
+    return Vec2(mms_u(x) + Vec2({0.5 + 0.2 * x[0] * x[1], 0.1 * x[0]}));
+  };
+  setup.initial_pressure = [](const Point2& x) { return 2 + std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); };
+  FlowProblem problem(tria, setup);
+  problem.setup_system();
+  problem.interpolate_initial_guess();
+  const Vector<double> x0 = problem.solution();
+  const auto n = x0.size();
+  // deterministic pseudo-random direction satisfying the homogeneous constraints
+  Vector<double> dir(n);
+  unsigned long long seed = 12345;
+  for (unsigned int i = 0; i < n; ++i) {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    dir(i) = 2.0 * static_cast<double>(seed >> 11) / 9007199254740992.0 - 1.0;
+  }
+  problem.zero_constraints().distribute(dir);
+
+  Vector<double> r(n), rp(n), rm(n), jd(n), xs(n);
+  problem.assemble_system(x0, true, true, r);
+  problem.system_matrix().vmult(jd, dir);
+  const double h = 1e-6;
+  xs = x0;
+  xs.add(h, dir);
+  problem.assemble_system(xs, false, false, rp);
+  xs = x0;
+  xs.add(-h, dir);
+  problem.assemble_system(xs, false, false, rm);
+  JacobianCheck c;
+  for (unsigned int i = 0; i < n; ++i) {
+    if (problem.zero_constraints().is_constrained(i)) continue;
+    const double fd = (rp(i) - rm(i)) / (2 * h);
+    c.max_abs_difference = std::max(c.max_abs_difference, std::abs(fd - jd(i)));
+    c.max_abs_reference = std::max(c.max_abs_reference, std::abs(fd));
+  }
+  return c;
+}
+
+InclineResult incline_layer(const InclineSpec& s) {
+  const double h = s.depth, dx = h / s.cells_across;
+  Triangulation<dim> tria;
+  GridGenerator::subdivided_hyper_rectangle(tria, {2u, static_cast<unsigned int>(s.cells_across)},
+                                            Point2(0, 0), Point2(2 * dx, h), true);
+  MuIRheology visc(s.rheology);
+  const double rho = s.bulk_density, g = s.gravity, th = s.slope;
+  const double G = rho * g * std::cos(th), Ptop = s.overburden;
+  const double Ibeta = visc.inertial_number_for_friction(std::tan(th));
+  const double d = s.rheology.grain_diameter, rho_s = s.rheology.solid_density;
+  const double coef = 2 * Ibeta / (3 * d * std::sqrt(rho_s) * G);
+  const auto u_exact = [=](double z) {
+    return coef * (std::pow(Ptop + G * h, 1.5) - std::pow(Ptop + G * (h - z), 1.5));
+  };
+  ProblemSetup setup;
+  setup.viscosity = &visc;
+  setup.bc.periodic_x.push_back({0, 1});
+  setup.bc.dirichlet[2] = [](const Point2&) { return Vec2(); };
+  setup.bc.traction[3] = [=](const Point2&, const Vec2&) { return Vec2({Ptop * std::tan(th), -Ptop}); };
+  setup.body_force = [=](const Point2&) { return Vec2({rho * g * std::sin(th), -rho * g * std::cos(th)}); };
+  // initial guess: a parabolic profile at half the exact surface speed, lithostatic pressure
+  const double us = u_exact(h);
+  setup.initial_velocity = [=](const Point2& x) {
+    const double e = 1 - x[1] / h;
+    return Vec2({0.5 * us * (1 - e * e), 0});
+  };
+  setup.initial_pressure = [=](const Point2& x) { return Ptop + G * (h - x[1]); };
+  setup.nonlinear.relative_tolerance = 1e-10;
+  setup.nonlinear.max_iterations = 60;
+  setup.nonlinear.picard_iterations = 3;
+  FlowProblem problem(tria, setup);
+  problem.run();
+
+  InclineResult r;
+  r.converged = problem.report().converged;
+  r.picard_steps = problem.report().picard_steps;
+  r.newton_steps = problem.report().newton_steps;
+  r.surface_velocity_exact = us;
+  internal::PointState st;
+  for (int k = 0; k <= 100; ++k) {
+    const double z = h * k / 100.0;
+    if (!problem.point_state(Point2(dx, z), st)) continue;
+    if (k == 100) r.surface_velocity = st.velocity[0];
+    r.max_relative_error = std::max(r.max_relative_error, std::abs(st.velocity[0] - u_exact(z)) / us);
+  }
+  return r;
+}
+
+}  // namespace grainlift::continuum::verification

@@ -1,0 +1,218 @@
+// Glue between the case file / shared schema and the DEM engine. Conversion only: the physics
+// is in dem/src, the post-processing (surface stress, block averages, drag/lift) in shared/.
+#include "grainlift/dem/dem_solver.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "grainlift/dem/dem_output.h"
+#include "grainlift/dem/errors.h"
+#include "grainlift/dem/simulation.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/surface_stress.h"
+
+namespace grainlift::dem {
+namespace {
+
+std::string packing_cache_dir(const std::string& setting) {
+  if (setting != "auto") return setting;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return std::string(xdg) + "/grainlift/packings";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return std::string(home) + "/.cache/grainlift/packings";
+  return "";
+}
+
+RunResult to_result(const Case& c, const DemOutput& out, const DemConfig& cfg) {
+  RunResult r;
+  const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
+  const double heading = std::atan2(vy, vx);
+
+  // Force series (all samples, including the transient).
+  ForceSeries f;
+  std::vector<double> drag, lift, torque, contacts;
+  for (std::size_t i = 0; i < out.samples.size(); ++i) {
+    const auto& s = out.samples[i];
+    f.time.push_back(s.time);
+    f.fx.push_back(s.fx);
+    f.fy.push_back(s.fy);
+    f.torque.push_back(s.torque);
+    f.contacts.push_back(s.contacts);
+    if (i >= out.steady_start_index) {
+      const DragLift dl = project_drag_lift(s.fx, s.fy, vx, vy);
+      drag.push_back(dl.drag);
+      lift.push_back(dl.lift);
+      torque.push_back(s.torque);
+      contacts.push_back(s.contacts);
+    }
+  }
+  r.forces = std::move(f);
+  if (!drag.empty()) {
+    const std::size_t B = std::size_t(c.output.blocks);
+    const BlockMean d = block_mean(drag, B), l = block_mean(lift, B), t = block_mean(torque, B),
+                    n = block_mean(contacts, B);
+    MeanForces m;
+    m.drag = d.mean;
+    m.lift = l.mean;
+    m.torque = t.mean;
+    auto se = [](const BlockMean& b) {
+      return std::isfinite(b.stderr_) ? std::optional<double>(b.stderr_) : std::nullopt;
+    };
+    m.drag_stderr = se(d);
+    m.lift_stderr = se(l);
+    m.torque_stderr = se(t);
+    m.contacts = n.mean;
+    m.samples = std::int64_t(d.samples);
+    m.blocks = std::int64_t(d.blocks);
+    r.means = m;
+
+    // Surface distributions from the intruder contacts of every averaged sample.
+    SurfaceStressEstimator kernel(c.output.angles, c.output.kernel_width_deg,
+                                  c.intruder.diameter);
+    ContactHistogram hist(c.output.histogram_bins);
+    std::size_t k = 0;
+    for (std::size_t i = out.steady_start_index; i < out.samples.size(); ++i) {
+      for (; k < out.contacts.size() && std::size_t(out.contacts[k].sample) == i; ++k) {
+        const auto& ct = out.contacts[k];
+        const double theta = wrap_angle(ct.theta - heading);
+        kernel.add(theta, ct.fn, ct.ft);
+        hist.add(theta, ct.fn, ct.ft, ct.slipping);
+      }
+      kernel.end_frame();
+      hist.end_frame();
+    }
+    r.surface = kernel.result();
+    r.histogram = hist.result();
+  }
+
+  if (out.fields.nx > 0 && out.fields.snapshots > 0) {
+    const auto& a = out.fields;
+    FieldGrid g;
+    for (int i = 0; i < a.nx; ++i) g.x.push_back(cfg.fields.x0 + (i + 0.5) * cfg.fields.spacing);
+    for (int j = 0; j < a.ny; ++j) g.y.push_back(cfg.fields.y0 + (j + 0.5) * cfg.fields.spacing);
+    g.velocity_x = a.vx;
+    g.velocity_y = a.vy;
+    g.area_fraction = a.area_fraction;
+    g.granular_temperature = a.granular_temperature;
+    g.stress_xx = a.sxx;
+    g.stress_xy = a.sxy;
+    g.stress_yy = a.syy;
+    std::vector<double> p(a.sxx.size());
+    for (std::size_t i = 0; i < p.size(); ++i) p[i] = -0.5 * (a.sxx[i] + a.syy[i]);
+    g.pressure = std::move(p);
+    r.fields = std::move(g);
+  }
+
+  Geometry& q = r.geometry;
+  q.intruder_diameter = c.intruder.diameter;
+  q.intruder_x = c.intruder.position[0];
+  q.intruder_y = c.intruder.position[1];
+  q.grain_diameter = c.grains.diameter;
+  q.domain_xmin = c.domain.x_range[0];
+  q.domain_xmax = c.domain.x_range[1];
+  q.domain_ymin = c.domain.y_range[0];
+  q.domain_ymax = c.domain.y_range[1];
+  q.velocity_x = vx;
+  q.velocity_y = vy;
+  q.omega = c.intruder.omega;
+  q.gravity_x = c.scene.gravity[0];
+  q.gravity_y = c.scene.gravity[1];
+  q.bulk_density = c.bulk_density();
+  // Pressure scale: the lithostatic pressure at the intruder under gravity, else the
+  // mean drag per unit projected area D / diameter (a measured dynamic pressure).
+  q.pressure_scale = c.lithostatic_pressure() > 0
+                         ? c.lithostatic_pressure()
+                         : (r.means ? std::abs(r.means->drag) / c.intruder.diameter : 0.0);
+  r.meta.notes = fmt::format(
+      "grains {} (walls {}), area fraction {:.4f}, packing {}, collision time {:.3g} s, "
+      "steps {}, pressure_scale {}",
+      out.grains, out.wall_grains, out.achieved_area_fraction,
+      out.packing_from_cache ? "reused from cache" : "prepared", out.collision_time, out.steps,
+      c.lithostatic_pressure() > 0 ? "= lithostatic pressure at the centre" : "= drag / D");
+  return r;
+}
+
+}  // namespace
+
+DemConfig make_dem_config(const Case& c, int threads) {
+  DemConfig d;
+  d.xmin = c.domain.x_range[0];
+  d.xmax = c.domain.x_range[1];
+  d.ymin = c.domain.y_range[0];
+  d.ymax = c.domain.y_range[1];
+  d.periodic_x = c.domain.periodic[0];
+  d.periodic_y = c.domain.periodic[1];
+  d.wall_bottom = c.domain.wall_bottom;
+  d.wall_top = c.domain.wall_top;
+  d.wall_left = c.domain.wall_left;
+  d.wall_right = c.domain.wall_right;
+  d.gravity = c.scene.gravity;
+  d.grain_diameter = c.grains.diameter;
+  d.polydispersity = c.grains.polydispersity;
+  d.density = c.grains.density;
+  d.area_fraction = c.grains.area_fraction;
+  auto& ct = d.contact;
+  ct.law = c.grains.contact.law == "guillard2014" ? ContactLaw::guillard2014 : ContactLaw::kumar2019;
+  ct.kn = c.grains.contact.kn;
+  ct.kt = c.grains.contact.kt;
+  ct.gamma_n = c.grains.contact.gamma_n;
+  ct.gamma_t = c.grains.contact.gamma_t;
+  ct.youngs_modulus = c.grains.contact.youngs_modulus;
+  ct.poisson_ratio = c.grains.contact.poisson_ratio;
+  ct.restitution = c.grains.contact.restitution;
+  ct.friction = c.grains.friction;
+  ct.intruder_friction = c.intruder.friction;
+  d.intruder_diameter = c.intruder.diameter;
+  d.intruder_position = c.intruder.position;
+  d.intruder_velocity = c.intruder.velocity;
+  d.intruder_omega = c.intruder.omega;
+  d.spin_ramp_time = c.intruder.spin_ramp_time;
+  d.dt = c.dem.dt;
+  d.max_dt_fraction = c.dem.max_dt_fraction;
+  d.travel = c.dem.travel;
+  d.steady_travel = c.dem.steady_travel;
+  d.seed = c.dem.seed;
+  d.sample_every = c.dem.sample_every;
+  d.field_every = c.dem.field_every;
+  d.threads = threads;
+  d.relax_ke_per_grain = c.dem.relax_ke;
+  d.packing_cache_dir = packing_cache_dir(c.dem.packing_cache);
+  if (c.output.fields) {
+    const double h = c.output.field_spacing * c.grains.diameter;
+    const double hx = c.output.field_half_size[0] * c.intruder.diameter;
+    const double hy = c.output.field_half_size[1] * c.intruder.diameter;
+    d.fields.enabled = true;
+    d.fields.spacing = h;
+    d.fields.nx = std::max(1, int(std::ceil(2 * hx / h)));
+    d.fields.ny = std::max(1, int(std::ceil(2 * hy / h)));
+    d.fields.x0 = -0.5 * d.fields.nx * h;
+    d.fields.y0 = -0.5 * d.fields.ny * h;
+  }
+  return d;
+}
+
+SolverEntry solver_entry() {
+  SolverEntry e;
+  e.name = "dem";
+  e.description = "discrete element method, 2D frictional disks (Kumar 2019 contact law)";
+  e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
+    const DemConfig cfg = make_dem_config(c, opt.threads);
+    DemOutput out;
+    try {
+      out = run_simulation(cfg, [&](double fraction, const char* phase) {
+        progress.update(fraction, phase);
+      });
+    } catch (const ConfigError& e) {
+      throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
+    } catch (const RunFailure& e) {
+      throw RunError(e.what());
+    }
+    return to_result(c, out, cfg);
+  };
+  return e;
+}
+
+}  // namespace grainlift::dem

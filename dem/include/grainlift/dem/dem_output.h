@@ -1,0 +1,49 @@
+// What one DEM run hands back to the glue, which turns it into the shared schema.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace grainlift::dem {
+
+/// Force on the intruder at one sample time (lab frame, per unit length).
+struct IntruderSample {
+  double time = 0;      ///< s
+  double fx = 0, fy = 0;  ///< N/m, total contact force exerted by the grains on the intruder
+  double torque = 0;    ///< N, about the intruder centre, counter-clockwise positive
+  int contacts = 0;     ///< number of grains touching the intruder
+};
+
+/// One grain-intruder contact at a sample time (only samples after the steady-state start).
+struct IntruderContact {
+  std::int32_t sample = 0;  ///< index into DemOutput::samples
+  double theta = 0;   ///< rad, contact angle from +x, counter-clockwise, in (-pi, pi]
+  double fn = 0;      ///< N/m, normal force on the intruder, positive when compressive (pushing inward)
+  double ft = 0;      ///< N/m, tangential force on the intruder, positive counter-clockwise
+  bool slipping = false;  ///< |ft| reached mu |fn| (to relative 1e-9)
+};
+
+/// Coarse-grained fields in the intruder frame, averaged over the snapshots taken
+/// after the steady-state start; row-major [j * nx + i] (j along y).
+struct FieldAverages {
+  int nx = 0, ny = 0, snapshots = 0;
+  std::vector<double> area_fraction;            ///< Kumar eq. (A6)
+  std::vector<double> vx, vy;                   ///< m/s, relative to the intruder, eq. (A3)-(A4)
+  std::vector<double> granular_temperature;     ///< m^2/s^2, eq. (A7)
+  std::vector<double> sxx, sxy, syy;            ///< Pa*m (2D stress, N/m), contact stress, compressive negative
+};
+
+struct DemOutput {
+  std::vector<IntruderSample> samples;
+  std::vector<IntruderContact> contacts;  ///< after steady_start_index only
+  std::size_t steady_start_index = 0;     ///< first sample used for averaging
+  FieldAverages fields;                   ///< empty (nx == 0) when fields are off
+  int grains = 0;                         ///< number of mobile grains
+  int wall_grains = 0;
+  double achieved_area_fraction = 0;
+  double collision_time = 0;              ///< s, binary collision time used for the dt check
+  bool packing_from_cache = false;
+  long long steps = 0;
+};
+
+}  // namespace grainlift::dem

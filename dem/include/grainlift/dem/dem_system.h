@@ -1,0 +1,147 @@
+// The state of a DEM system (grains, frozen wall disks, one prescribed intruder) and its
+// synchronised velocity-Verlet time step. No I/O; no allocation inside step() once the
+// neighbour list has reached its working size.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "grainlift/dem/contact_law.h"
+#include "grainlift/dem/dem_config.h"
+#include "grainlift/dem/neighbor_list.h"
+#include "grainlift/dem/periodic_box.h"
+
+namespace grainlift::dem {
+
+/// One disk handed to DemSystem::set_bodies.
+struct Disk {
+  double x = 0, y = 0;   ///< m
+  double r = 0;          ///< m
+  double mass = 0;       ///< kg (ignored for frozen disks: infinite mass)
+  double vx = 0, vy = 0, w = 0;  ///< m/s, rad/s
+};
+
+struct SystemOptions {
+  PeriodicBox box;
+  ContactParams contact;
+  double dt = 2e-6;       ///< s
+  double skin = 0;        ///< m, Verlet skin (0: 0.1 of the largest diameter)
+  int threads = 1;
+  std::array<double, 2> gravity{0, 0};  ///< m/s^2, on grains only
+};
+
+/// Structure of arrays of all disks: grains [0, n_grains), frozen disks after them.
+struct ParticleArrays {
+  std::vector<double> x, y, vx, vy, w, ax, ay, alpha, r, inv_m, inv_i, mass;
+  std::vector<double> x_build, y_build;  ///< positions at the last neighbour-list build
+};
+
+/// The intruder: a disk with prescribed velocity and angular velocity.
+struct Intruder {
+  bool present = false;
+  double x = 0, y = 0, r = 0;
+  double vx = 0, vy = 0;        ///< m/s, constant
+  double omega_target = 0;      ///< rad/s
+  double spin_ramp_time = 0;    ///< s, omega rises linearly from 0 over this time
+  double x_build = 0, y_build = 0;
+  double t0 = 0;                ///< s, system time when the prescribed motion started
+  /// @brief omega at time t after the start of the motion (rad/s).
+  double omega(double t) const {
+    if (spin_ramp_time <= 0 || t >= spin_ramp_time) return omega_target;
+    return omega_target * (t > 0 ? t / spin_ramp_time : 0.0);
+  }
+};
+
+/// Grain-intruder contact candidates with their history and last-step outputs.
+struct IntruderContacts {
+  std::vector<int> grain;        ///< sorted grain indices within R + r + skin at the last build
+  std::vector<double> sx, sy;    ///< m, tangential springs
+  std::vector<double> fx, fy;    ///< N, force on the grain
+  std::vector<double> fn;        ///< N, normal force on the grain (positive repulsive)
+  std::vector<double> ft;        ///< N, tangential force on the grain along (-n_y, n_x), n intruder->grain
+  std::vector<double> nx, ny;    ///< unit normal from the intruder to the grain
+  std::vector<std::uint8_t> touching, slipping;
+};
+
+class DemSystem {
+ public:
+  explicit DemSystem(const SystemOptions& options);
+
+  /// @brief Replace all bodies. Velocities as given, histories cleared, accelerations
+  /// recomputed at the first step.
+  void set_bodies(const std::vector<Disk>& grains, const std::vector<Disk>& frozen);
+
+  /// @brief Place the intruder (m, m/s, rad/s); its motion is prescribed from time() on.
+  void set_intruder(double x, double y, double r, double vx, double vy, double omega,
+                    double spin_ramp_time);
+  void remove_intruder() { intruder_.present = false; }
+
+  /// @brief Advance by one time step dt (synchronised velocity Verlet).
+  void step();
+
+  /// @brief Change the Coulomb coefficients (packing preparation runs frictionless).
+  void set_friction(double mu, double mu_intruder);
+  /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
+  void set_background_damping(double rate) { damping_rate_ = rate; }
+  /// @brief Multiply every grain radius by factor (soft compression by radius growth).
+  void scale_grain_radii(double factor);
+  /// @brief Set every grain velocity and angular velocity to zero.
+  void zero_velocities();
+
+  // ---- measurements
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  int grains() const { return n_grains_; }
+  int frozen() const { return n_total_ - n_grains_; }
+  const ParticleArrays& particles() const { return p_; }
+  const Intruder& intruder() const { return intruder_; }
+  const IntruderContacts& intruder_contacts() const { return ic_; }
+  const NeighborList& neighbors() const { return nl_; }
+  const PeriodicBox& box() const { return opt_.box; }
+  const LawCoefficients& law() const { return law_; }
+  double dt() const { return opt_.dt; }
+  /// Force (N) and torque (N m) exerted by the grains on the intruder at the last step.
+  double intruder_fx() const { return ifx_; }
+  double intruder_fy() const { return ify_; }
+  double intruder_torque() const { return itq_; }
+  int intruder_touching() const { return intruder_touching_; }
+  /// @brief Largest overlap / smaller diameter seen since the last call (then reset).
+  double take_max_overlap_fraction();
+  /// @brief Translational + rotational kinetic energy of the grains (J), summed in index order.
+  double kinetic_energy() const;
+  /// @brief Elastic energy of the normal springs, sum of (2/5) A_n delta^2 (J); tangential
+  /// springs are not included (use it with mu = 0).
+  double normal_elastic_energy() const;
+  /// Number of neighbour-list builds so far.
+  int list_builds() const { return builds_; }
+
+ private:
+  void build_lists();
+  void compute_forces(double spring_dt);
+  void finish_kick(bool first);
+
+  SystemOptions opt_;
+  LawCoefficients law_;
+  double mu_ = 0, mu_intruder_ = 0;
+  double skin_ = 0;
+  double damping_rate_ = 0;
+  double growth_since_build_ = 0;  ///< m, largest radius increase since the last build
+  int n_grains_ = 0, n_total_ = 0;
+  ParticleArrays p_;
+  std::vector<double> fx_, fy_, tq_;  ///< per-particle gathered force and torque
+  NeighborList nl_;
+  Intruder intruder_;
+  IntruderContacts ic_;
+  IntruderContacts ic_old_;
+  std::vector<int> ic_slot_;  ///< per grain: index in ic_ or -1
+  double ifx_ = 0, ify_ = 0, itq_ = 0;
+  int intruder_touching_ = 0;
+  double max_overlap_ = 0;
+  double time_ = 0;
+  std::int64_t steps_ = 0;
+  bool primed_ = false;
+  int builds_ = 0;
+};
+
+}  // namespace grainlift::dem

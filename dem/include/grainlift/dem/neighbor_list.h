@@ -1,0 +1,50 @@
+// Broad search: cell list + Verlet half list with a skin, holding the per-contact history.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "grainlift/dem/periodic_box.h"
+
+namespace grainlift::dem {
+
+/// Verlet half list in CSR form. Pairs (i, j) with i mobile (i < n_mobile) and j > i
+/// (frozen disks sit at indices >= n_mobile), kept when |x_i - x_j| < r_i + r_j + skin.
+/// Each row is sorted by j, so the tangential history of a pair that survives a rebuild is
+/// carried over by a merge of the old and new rows. Per-pair outputs (force on i, n x F_t)
+/// are written by the force loop and summed per particle by gather(), in a fixed order:
+/// results do not depend on the thread count.
+class NeighborList {
+ public:
+  /// @brief Rebuild the list from wrapped positions and carry the history over.
+  /// @param skin m, extra distance kept beyond contact
+  void build(const PeriodicBox& box, const double* x, const double* y, const double* r,
+             int n_mobile, int n_total, double skin, int threads);
+
+  /// @brief Forget every pair and its history (new set of bodies).
+  void clear();
+
+  int rows() const { return n_mobile_; }
+  std::size_t pairs() const { return partner.size(); }
+
+  std::vector<std::int64_t> first;  ///< row i spans [first[i], first[i+1])
+  std::vector<int> partner;         ///< j of each pair
+  std::vector<double> sx, sy;       ///< m, tangential spring of each pair (history)
+  std::vector<double> fx, fy;       ///< N, force on i of each pair (0 when not touching)
+  std::vector<double> q;            ///< N, n x F_t (torque on i is -r_i q, on j -r_j q)
+  std::vector<std::int64_t> rfirst; ///< pairs where particle j is the partner: [rfirst[j], rfirst[j+1])
+  std::vector<std::int64_t> rpair;
+
+ private:
+  int n_mobile_ = 0;
+  // scratch kept between builds so that a rebuild does not allocate in steady state
+  std::vector<std::int64_t> old_first_;
+  std::vector<int> old_partner_;
+  std::vector<double> old_sx_, old_sy_;
+  std::vector<int> cell_start_, cell_items_, cell_of_, cursor_;
+  std::vector<std::int64_t> rcursor_;
+  std::vector<std::vector<int>> thread_partner_;
+  std::vector<std::vector<std::int64_t>> thread_count_;
+};
+
+}  // namespace grainlift::dem

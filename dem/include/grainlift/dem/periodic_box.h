@@ -1,0 +1,41 @@
+// The simulation box: bounds, periodicity, minimum image and wrapping (lab frame, m).
+#pragma once
+
+namespace grainlift::dem {
+
+struct PeriodicBox {
+  double xmin = 0, xmax = 1, ymin = 0, ymax = 1;
+  bool periodic_x = true, periodic_y = false;
+
+  double lx() const { return xmax - xmin; }
+  double ly() const { return ymax - ymin; }
+
+  /// @brief Replace (dx, dy) by its minimum image in the periodic directions.
+  /// Valid for |dx| < 1.5 lx (positions wrapped into the box).
+  inline void min_image(double& dx, double& dy) const {
+    if (periodic_x) {
+      const double l = lx();
+      if (dx > 0.5 * l) dx -= l;
+      else if (dx < -0.5 * l) dx += l;
+    }
+    if (periodic_y) {
+      const double l = ly();
+      if (dy > 0.5 * l) dy -= l;
+      else if (dy < -0.5 * l) dy += l;
+    }
+  }
+
+  /// @brief Wrap a position back into the box in the periodic directions.
+  inline void wrap(double& x, double& y) const {
+    if (periodic_x) {
+      if (x >= xmax) x -= lx();
+      else if (x < xmin) x += lx();
+    }
+    if (periodic_y) {
+      if (y >= ymax) y -= ly();
+      else if (y < ymin) y += ly();
+    }
+  }
+};
+
+}  // namespace grainlift::dem

@@ -1,0 +1,194 @@
+// run_simulation: validation, bed, time loop with force sampling, contacts and fields.
+#include "grainlift/dem/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "grainlift/dem/contact_law.h"
+#include "grainlift/dem/dem_system.h"
+#include "grainlift/dem/field_accumulator.h"
+#include "grainlift/dem/packing.h"
+
+namespace grainlift::dem {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+[[noreturn]] void refuse(const std::string& what) { throw ConfigError(what); }
+
+template <class T>
+std::string str(T v) {
+  std::ostringstream s;
+  s.precision(4);
+  s << v;
+  return s.str();
+}
+
+double impact_speed(const DemConfig& c) {
+  if (c.dt_check_velocity > 0) return c.dt_check_velocity;
+  return std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]) +
+         std::abs(c.intruder_omega) * 0.5 * c.intruder_diameter;
+}
+
+}  // namespace
+
+double validate_config(const DemConfig& c) {
+  if (!(c.xmax > c.xmin) || !(c.ymax > c.ymin)) {
+    refuse("box [" + str(c.xmin) + ", " + str(c.xmax) + "] x [" + str(c.ymin) + ", " +
+           str(c.ymax) + "] m is empty: need xmax > xmin and ymax > ymin");
+  }
+  if (!(c.grain_diameter > 0)) refuse("grain_diameter = " + str(c.grain_diameter) + " m: need > 0");
+  if (!(c.polydispersity >= 0 && c.polydispersity < 1)) {
+    refuse("polydispersity = " + str(c.polydispersity) + ": need 0 <= p < 1");
+  }
+  if (!(c.density > 0)) refuse("density = " + str(c.density) + " kg/m^2: need > 0");
+  if (!(c.area_fraction > 0 && c.area_fraction <= 0.9)) {
+    refuse("area_fraction = " + str(c.area_fraction) + ": need 0 < Phi <= 0.9");
+  }
+  if (!(c.intruder_diameter > 0)) {
+    refuse("intruder_diameter = " + str(c.intruder_diameter) + " m: need > 0");
+  }
+  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
+  if (!(speed > 0)) refuse("intruder velocity is zero: the run length is set by its travel");
+  if (!(c.travel > 0) || !(c.steady_travel >= 0)) {
+    refuse("travel = " + str(c.travel) + " d, steady_travel = " + str(c.steady_travel) +
+           " d: need travel > 0 and steady_travel >= 0");
+  }
+  if (c.sample_every < 1) refuse("sample_every = " + str(c.sample_every) + ": need >= 1");
+  if (c.field_every < 1) refuse("field_every = " + str(c.field_every) + ": need >= 1");
+  if (c.threads < 1) refuse("threads = " + str(c.threads) + ": need >= 1");
+  if (!(c.spin_ramp_time >= 0)) refuse("spin_ramp_time = " + str(c.spin_ramp_time) + " s: need >= 0");
+  if (!(c.max_overlap_fraction > 0)) {
+    refuse("max_overlap_fraction = " + str(c.max_overlap_fraction) + ": need > 0");
+  }
+  if (!(c.relax_ke_per_grain > 0)) {
+    refuse("relax_ke_per_grain = " + str(c.relax_ke_per_grain) + " J: need > 0");
+  }
+  if (c.fields.enabled && (!(c.fields.spacing > 0) || c.fields.nx < 1 || c.fields.ny < 1)) {
+    refuse("field grid: spacing = " + str(c.fields.spacing) + " m, nx = " + str(c.fields.nx) +
+           ", ny = " + str(c.fields.ny) + ": need spacing > 0 and nx, ny >= 1");
+  }
+  const double d = c.grain_diameter;
+  if (c.periodic_x && c.xmax - c.xmin < 3 * (d + c.intruder_diameter)) {
+    refuse("periodic box length " + str(c.xmax - c.xmin) + " m is below 3 (d + D) = " +
+           str(3 * (d + c.intruder_diameter)) + " m");
+  }
+  const LawCoefficients law = LawCoefficients::from(c.contact);
+  if (!(c.dt > 0)) refuse("dt = " + str(c.dt) + " s: need > 0");
+  const double v = impact_speed(c);
+  const double m = c.density * kPi * 0.25 * d * d;
+  const double tc = hertz_collision_time(law, 0.5 * d, 0.5 * d, m, m, v);
+  if (!(c.max_dt_fraction > 0)) refuse("max_dt_fraction = " + str(c.max_dt_fraction) + ": need > 0");
+  if (c.dt > c.max_dt_fraction * tc) {
+    refuse("dt = " + str(c.dt) + " s exceeds " + str(c.max_dt_fraction) +
+           " of the binary collision time " + str(tc) + " s (two grains of d = " + str(d) +
+           " m meeting at " + str(v) + " m/s); use dt <= " + str(c.max_dt_fraction * tc) + " s");
+  }
+  return tc;
+}
+
+DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
+  DemOutput out;
+  out.collision_time = validate_config(c);
+  const double d = c.grain_diameter;
+
+  const PackedBed bed = prepare_packing(c, progress);
+  out.packing_from_cache = bed.from_cache;
+  out.achieved_area_fraction = bed.area_fraction;
+
+  SystemOptions o;
+  o.box.xmin = c.xmin;
+  o.box.xmax = c.xmax;
+  o.box.ymin = c.ymin;
+  o.box.ymax = c.ymax;
+  o.box.periodic_x = c.periodic_x;
+  o.box.periodic_y = c.periodic_y;
+  o.contact = c.contact;
+  o.dt = c.dt;
+  o.threads = c.threads;
+  o.gravity = c.gravity;
+  DemSystem s(o);
+  std::vector<Disk> grains(bed.r.size());
+  for (std::size_t n = 0; n < bed.r.size(); ++n) {
+    grains[n].x = bed.x[n];
+    grains[n].y = bed.y[n];
+    grains[n].r = bed.r[n];
+    grains[n].mass = c.density * kPi * bed.r[n] * bed.r[n];
+  }
+  const std::vector<Disk> walls = make_wall_disks(c);
+  s.set_bodies(grains, walls);
+  s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter,
+                 c.intruder_velocity[0], c.intruder_velocity[1], c.intruder_omega,
+                 c.spin_ramp_time);
+  out.grains = s.grains();
+  out.wall_grains = s.frozen();
+
+  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
+  const long long n_steps = static_cast<long long>(std::ceil(c.travel * d / (speed * c.dt) - 1e-9));
+  const double steady_time = c.steady_travel * d / speed;
+  const long long progress_every = std::max(1LL, n_steps / 100);
+  out.samples.reserve(static_cast<std::size_t>(n_steps / c.sample_every + 1));
+  out.steady_start_index = static_cast<std::size_t>(-1);
+  FieldAccumulator fields(c.fields);
+
+  for (long long k = 1; k <= n_steps; ++k) {
+    s.step();
+    const double t = s.time();
+    if (k % c.sample_every == 0) {
+      IntruderSample smp;
+      smp.time = t;
+      smp.fx = s.intruder_fx();
+      smp.fy = s.intruder_fy();
+      smp.torque = s.intruder_torque();
+      smp.contacts = s.intruder_touching();
+      const double ke = s.kinetic_energy();
+      if (!std::isfinite(smp.fx) || !std::isfinite(smp.fy) || !std::isfinite(smp.torque) ||
+          !std::isfinite(ke)) {
+        throw RunFailure("step " + str(k) + " (t = " + str(t) + " s): non-finite state (intruder force (" +
+                         str(smp.fx) + ", " + str(smp.fy) + ") N, kinetic energy " + str(ke) +
+                         " J); dt = " + str(c.dt) + " s may be too large");
+      }
+      const double ov = s.take_max_overlap_fraction();
+      if (ov > c.max_overlap_fraction) {
+        throw RunFailure("step " + str(k) + " (t = " + str(t) + " s): an overlap reached " +
+                         str(ov) + " of a grain diameter, above max_overlap_fraction = " +
+                         str(c.max_overlap_fraction) + "; reduce dt (" + str(c.dt) +
+                         " s) or the intruder speed");
+      }
+      const std::size_t index = out.samples.size();
+      out.samples.push_back(smp);
+      if (out.steady_start_index == static_cast<std::size_t>(-1) && t >= steady_time * (1 - 1e-12)) {
+        out.steady_start_index = index;
+      }
+      if (index >= out.steady_start_index) {
+        const IntruderContacts& ic = s.intruder_contacts();
+        for (std::size_t q = 0; q < ic.grain.size(); ++q) {
+          if (!ic.touching[q]) continue;
+          IntruderContact con;
+          con.sample = static_cast<std::int32_t>(index);
+          double th = std::atan2(ic.ny[q], ic.nx[q]);
+          if (th <= -kPi) th = kPi;
+          con.theta = th;
+          con.fn = ic.fn[q];   // the grain pushes the intruder inward: compressive positive
+          con.ft = -ic.ft[q];  // force on the intruder, counter-clockwise positive
+          con.slipping = ic.slipping[q] != 0;
+          out.contacts.push_back(con);
+        }
+      }
+    }
+    if (c.fields.enabled && k % c.field_every == 0 && t >= steady_time * (1 - 1e-12)) {
+      fields.add_snapshot(s);
+    }
+    if (progress && (k % progress_every == 0 || k == n_steps)) {
+      progress(static_cast<double>(k) / static_cast<double>(n_steps), "run");
+    }
+  }
+  if (out.steady_start_index == static_cast<std::size_t>(-1)) out.steady_start_index = out.samples.size();
+  if (c.fields.enabled) out.fields = fields.finish();
+  out.steps = n_steps;
+  return out;
+}
+
+}  // namespace grainlift::dem

@@ -1,0 +1,28 @@
+// Drag and lift by the conventions of targets.md, and block-averaged means with standard
+// errors, shared by both solvers.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace grainlift {
+
+/// Drag D = -F . V/|V| and lift L = F . (z x V/|V|) (targets.md). Forces per unit length.
+struct DragLift {
+  double drag = 0, lift = 0;
+};
+/// @param fx, fy force on the intruder (N/m); @param vx, vy intruder velocity (m/s, not zero).
+DragLift project_drag_lift(double fx, double fy, double vx, double vy);
+
+/// Mean and standard error of a correlated series from B equal blocks (the first
+/// size % B samples are dropped so the blocks end at the last sample).
+struct BlockMean {
+  double mean = 0;
+  double stderr_ = 0;   ///< standard deviation of the block means / sqrt(B)
+  std::size_t blocks = 0, samples = 0;
+};
+/// @param series samples after the steady-state start; @param blocks B >= 2 requested (fewer
+/// are used when there are fewer samples than blocks; stderr is NaN with fewer than 2 blocks).
+BlockMean block_mean(const std::vector<double>& series, std::size_t blocks);
+
+}  // namespace grainlift

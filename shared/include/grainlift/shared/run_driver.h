@@ -1,0 +1,47 @@
+// Solver-agnostic orchestration of `grainlift run`: runs the requested solvers on one case,
+// stamps the metadata, writes <out>/<solver>.h5 (+ an XDMF sidecar for ParaView) and
+// <out>/summary.json. The solvers themselves are plugged in by apps/ as SolverEntry values.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "grainlift/shared/case_model.h"
+#include "grainlift/shared/progress.h"
+#include "grainlift/shared/run_result.h"
+
+namespace grainlift {
+
+struct RunOptions {
+  std::string out_dir = "out";
+  int threads = 1;
+  bool progress = true;
+};
+
+/// A solver that can be asked for by name on the command line.
+struct SolverEntry {
+  std::string name;         ///< "dem" or "fem": also the output file name
+  std::string description;  ///< one line for --help
+  /// Runs the case. Throws InputError (exit 2) for a case it cannot run, RunError (exit 1)
+  /// for a run that failed. Metadata is filled in by the driver.
+  std::function<RunResult(const Case&, const RunOptions&, ProgressReporter&)> run;
+};
+
+/// @brief Run @p solvers in order on @p c and write their files; returns the results.
+std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
+                                   const RunOptions& options);
+
+/// @brief Rebuild <out>/summary.json from the result files in @p out_dir whose case hash
+/// matches @p case_hash (so separate dem and fem runs of one case share one summary), with a
+/// "compare" object when both dem and fem are present.
+void write_summary(const std::string& out_dir, const std::string& case_hash);
+
+/// Scalar results of one file as the JSON object summary.json holds per solver.
+std::string summary_object_json(const RunResult& r);
+
+/// Version and build strings.
+std::string grainlift_version();
+std::string grainlift_git_revision();
+
+}  // namespace grainlift

@@ -1,0 +1,99 @@
+// The in-memory image of one solver's output file <out>/<solver>.h5 (see docs/schema.md).
+// Every optional block is absent from the file when the solver could not produce it:
+// absent, never filled with zeros.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace grainlift {
+
+/// Who produced the file, how, and from which case.
+struct RunMetadata {
+  std::string solver;            ///< "dem" or "fem"
+  std::string grainlift_version;
+  std::string git_revision;
+  int threads = 1;
+  double wall_seconds = 0;       ///< s, whole run including set-up
+  std::string created_utc;       ///< ISO 8601
+  std::string case_text;         ///< the case file verbatim
+  std::string case_overrides;    ///< the --set overrides, one "key=value" per line
+  std::string case_hash;         ///< FNV-1a 64 of case_text + "\n--\n" + case_overrides, hex
+  std::string case_path;
+  std::string notes;             ///< free text: convergence, packing cache, warnings
+};
+
+/// Geometry shared by both solvers (SI units, lab frame at t = 0).
+struct Geometry {
+  double intruder_diameter = 0;   ///< m
+  double intruder_x = 0, intruder_y = 0;  ///< m
+  double grain_diameter = 0;      ///< m, mean
+  double domain_xmin = 0, domain_xmax = 0, domain_ymin = 0, domain_ymax = 0;  ///< m
+  double velocity_x = 0, velocity_y = 0;  ///< m/s, intruder velocity V
+  double omega = 0;               ///< rad/s, counter-clockwise positive
+  double gravity_x = 0, gravity_y = 0;    ///< m/s^2
+  double bulk_density = 0;        ///< kg/m^3 (2D: per unit length), rho = Phi rho_s
+  double pressure_scale = 0;      ///< Pa, the stated pressure scale P0 used to normalise stresses
+};
+
+/// Force on the intruder against time (per unit length, lab frame). A steady FE solution
+/// is a single row.
+struct ForceSeries {
+  std::vector<double> time;       ///< s
+  std::vector<double> fx, fy;     ///< N/m
+  std::vector<double> torque;     ///< N (per unit length: N m / m)
+  std::vector<double> contacts;   ///< count; empty when the solver has no contacts (FE)
+};
+
+/// Mean drag, lift and torque with standard errors (targets.md conventions).
+struct MeanForces {
+  double drag = 0, lift = 0, torque = 0;        ///< N/m, N/m, N
+  std::optional<double> drag_stderr, lift_stderr, torque_stderr;  ///< block-average standard errors
+  std::optional<double> contacts;               ///< mean contact count (DEM)
+  std::int64_t samples = 0;                     ///< samples averaged (1 for a steady FE solution)
+  std::int64_t blocks = 0;                      ///< blocks used for the standard errors
+};
+
+/// Surface stress on the shared angle grid theta_m = (m + 1/2) 2 pi / M (Guillard eq. A4),
+/// theta measured from the direction of V, counter-clockwise.
+struct SurfaceDistribution {
+  std::vector<double> theta;      ///< rad
+  std::vector<double> sigma_n;    ///< Pa, compressive positive
+  std::vector<double> sigma_t;    ///< Pa, positive when the medium pulls the surface counter-clockwise
+  double kernel_width_deg = 0;    ///< Gaussian standard deviation; 0 for a pointwise FE trace
+};
+
+/// Histogram of intruder contacts in equal bins (Kumar 2019 Fig. 6, pi/12 bins), DEM only.
+struct SurfaceHistogram {
+  std::vector<double> theta_lo, theta_hi;  ///< rad, bin edges, theta from the direction of V
+  std::vector<double> contact_count;  ///< mean number of contacts in the bin per sample
+  std::vector<double> normal_force;   ///< N/m, mean summed F_N in the bin per sample
+  std::vector<double> tangential_force;  ///< N/m, mean summed F_T per sample (ccw positive)
+  std::vector<double> slip_fraction;  ///< fraction of contacts in the bin with |F_T| = mu |F_N|
+};
+
+/// Fields on a regular grid in the intruder frame; each field may be absent independently.
+/// Arrays are row-major [j * nx + i] with j along y. Cell centres x_i, y_j.
+struct FieldGrid {
+  std::vector<double> x, y;       ///< m, cell-centre coordinates relative to the intruder centre
+  std::optional<std::vector<double>> velocity_x, velocity_y;  ///< m/s, intruder frame
+  std::optional<std::vector<double>> pressure;                ///< Pa
+  std::optional<std::vector<double>> stress_xx, stress_xy, stress_yy;  ///< Pa, tension positive
+  std::optional<std::vector<double>> area_fraction;
+  std::optional<std::vector<double>> granular_temperature;    ///< m^2/s^2
+};
+
+/// Everything one solver writes.
+struct RunResult {
+  RunMetadata meta;
+  Geometry geometry;
+  std::optional<ForceSeries> forces;
+  std::optional<MeanForces> means;
+  std::optional<SurfaceDistribution> surface;
+  std::optional<SurfaceHistogram> histogram;
+  std::optional<FieldGrid> fields;
+};
+
+}  // namespace grainlift

@@ -1,0 +1,226 @@
+#include "grainlift/shared/case_keys.h"
+
+#include <fmt/format.h>
+
+#include <limits>
+
+namespace grainlift {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+KeySpec real(std::string path, bool req, std::string def, double lo, double hi, bool lo_open,
+             bool hi_open, std::string unit, std::string desc, std::string law = "") {
+  return {std::move(path), KeyType::real, req, std::move(def), lo, hi, lo_open, hi_open, {},
+          std::move(unit), std::move(desc), std::move(law)};
+}
+KeySpec integer(std::string path, std::string def, double lo, double hi, std::string desc) {
+  return {std::move(path), KeyType::integer, false, std::move(def), lo, hi, false, false, {}, "-",
+          std::move(desc), ""};
+}
+KeySpec vec2(std::string path, bool req, std::string def, double lo, double hi, std::string unit,
+             std::string desc) {
+  return {std::move(path), KeyType::vec2, req, std::move(def), lo, hi, false, false, {},
+          std::move(unit), std::move(desc), ""};
+}
+KeySpec choice(std::string path, std::string def, std::vector<std::string> choices,
+               std::string desc) {
+  return {std::move(path), KeyType::text, false, std::move(def), 0, 0, false, false,
+          std::move(choices), "-", std::move(desc), ""};
+}
+KeySpec boolean(std::string path, std::string def, std::string desc) {
+  return {std::move(path), KeyType::boolean, false, std::move(def), 0, 0, false, false, {}, "-",
+          std::move(desc), ""};
+}
+
+std::vector<KeySpec> make_keys() {
+  std::vector<KeySpec> k;
+  // [scene]
+  k.push_back(vec2("scene.gravity", false, "[0.0, 0.0]", -1e3, 1e3, "m/s^2",
+                   "gravitational acceleration [gx, gy]"));
+  // [domain]
+  k.push_back(vec2("domain.x_range", true, "", -1e4, 1e4, "m", "[xmin, xmax] of the box"));
+  k.push_back(vec2("domain.y_range", true, "", -1e4, 1e4, "m", "[ymin, ymax] of the box"));
+  k.push_back({"domain.periodic", KeyType::bool2, false, "[true, false]", 0, 0, false, false, {},
+               "-", "periodic in [x, y]", ""});
+  k.push_back({"domain.walls", KeyType::text_list, false, "[]", 0, 0, false, false,
+               {"bottom", "top", "left", "right"}, "-",
+               "box edges closed by walls of frozen grains (not on a periodic direction)", ""});
+  // [intruder]
+  k.push_back(real("intruder.diameter", true, "", 0, 1e3, true, false, "m", "intruder diameter D"));
+  k.push_back(vec2("intruder.position", false, "[0.0, 0.0]", -1e4, 1e4, "m",
+                   "centre of the intruder at t = 0 (inside the box)"));
+  k.push_back(vec2("intruder.velocity", true, "", -1e3, 1e3, "m/s",
+                   "translational velocity V [vx, vy] (lab frame, not zero)"));
+  k.push_back(real("intruder.omega", false, "0.0", -1e5, 1e5, false, false, "rad/s",
+                   "angular velocity, counter-clockwise positive"));
+  k.push_back(real("intruder.spin_ramp_time", false, "0.0", 0, 1e4, false, false, "s",
+                   "omega ramps linearly from 0 over this time (0: from the start)"));
+  k.push_back(real("intruder.friction", false, "grains.friction", 0, 10, false, false, "-",
+                   "Coulomb friction between grains and the intruder"));
+  // [grains]
+  k.push_back(real("grains.diameter", true, "", 0, 1e2, true, false, "m", "mean grain diameter d"));
+  k.push_back(real("grains.polydispersity", false, "0.1", 0, 0.5, false, false, "-",
+                   "half-width of the uniform diameter distribution, relative to d"));
+  k.push_back(real("grains.density", true, "", 0, 1e6, true, false, "kg/m^3",
+                   "solid density rho_s per unit length (= 2D mass per area, kg/m^2)"));
+  k.push_back(real("grains.area_fraction", true, "", 0, 0.9, true, false, "-",
+                   "area fraction Phi of the bed"));
+  k.push_back(real("grains.friction", false, "0.5", 0, 10, false, false, "-",
+                   "Coulomb friction coefficient mu between grains"));
+  // [grains.contact]
+  k.push_back(choice("grains.contact.law", "\"kumar2019\"", {"kumar2019", "guillard2014"},
+                     "contact law (see docs/dem-model.md)"));
+  k.push_back(real("grains.contact.kn", false, "2e9", 0, 1e15, true, false, "Pa",
+                   "normal stiffness K_n (Kumar eq. 1)", "kumar2019"));
+  k.push_back(real("grains.contact.kt", false, "2.45e9", 0, 1e15, false, false, "Pa",
+                   "tangential stiffness K_t (Kumar eq. 2)", "kumar2019"));
+  k.push_back(real("grains.contact.gamma_n", false, "8e6", 0, 1e12, false, false, "1/(m s)",
+                   "normal damping gamma_n (Kumar eq. 1)", "kumar2019"));
+  k.push_back(real("grains.contact.gamma_t", false, "8e6", 0, 1e12, false, false, "1/(m s)",
+                   "tangential damping gamma_t (Kumar eq. 2)", "kumar2019"));
+  k.push_back(real("grains.contact.youngs_modulus", false, "5e6", 0, 1e13, true, false, "Pa",
+                   "Young's modulus E (Guillard Table I)", "guillard2014"));
+  k.push_back(real("grains.contact.poisson_ratio", false, "0.45", -1, 0.5, true, true, "-",
+                   "Poisson ratio nu (Guillard Table I)", "guillard2014"));
+  k.push_back(real("grains.contact.restitution", false, "0.6", 0, 1, true, false, "-",
+                   "coefficient of restitution e (Guillard Table I)", "guillard2014"));
+  // [dem]
+  k.push_back(real("dem.dt", false, "2e-6", 0, 1e-2, true, false, "s", "time step"));
+  k.push_back(real("dem.max_dt_fraction", false, "0.1", 0, 1, true, false, "-",
+                   "largest accepted dt as a fraction of the binary collision time"));
+  k.push_back(real("dem.travel", false, "300.0", 0, 1e6, true, false, "d",
+                   "distance the intruder travels, in mean grain diameters"));
+  k.push_back(real("dem.steady_travel", false, "30.0", 0, 1e6, false, false, "d",
+                   "travel before averaging starts (less than dem.travel)"));
+  k.push_back(integer("dem.seed", "1", 0, 9.2e18, "random seed: packing and size distribution"));
+  k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
+  k.push_back(integer("dem.field_every", "500", 1, 1e9,
+                      "steps between field snapshots (after the steady state)"));
+  k.push_back(real("dem.relax_ke", false, "1e-9", 0, 1e3, true, false, "J",
+                   "packing is relaxed until the mean kinetic energy per grain is below this"));
+  {
+    KeySpec s = choice("dem.packing_cache", "\"auto\"", {}, "folder where prepared beds are "
+                       "saved and reused; \"auto\" = $XDG_CACHE_HOME/grainlift (or "
+                       "~/.cache/grainlift), \"\" = never cache");
+    k.push_back(s);
+  }
+  // [continuum]
+  k.push_back(real("continuum.ambient_pressure", false, "0.0", 0, 1e9, false, false, "Pa",
+                   "confining pressure at the intruder centre on top of the lithostatic part; "
+                   "stands in for the DEM's volume-controlled confinement (needed without "
+                   "gravity)"));
+  k.push_back(real("continuum.mu_s", false, "0.38", 0, 5, false, false, "-",
+                   "static friction coefficient of mu(I)"));
+  k.push_back(real("continuum.mu_2", false, "0.64", 0, 5, false, false, "-",
+                   "limiting friction coefficient of mu(I) (>= mu_s)"));
+  k.push_back(real("continuum.I0", false, "0.279", 0, 10, true, false, "-", "inertial number scale"));
+  k.push_back(choice("continuum.regularisation", "\"chauchat_medale\"",
+                     {"chauchat_medale", "barker_gray"}, "viscosity regularisation"));
+  k.push_back(real("continuum.delta", false, "1e-3", 0, 1e3, true, false, "1/s",
+                   "strain-rate regularisation delta"));
+  k.push_back(real("continuum.eta_max", false, "1e4", 0, 1e12, true, false, "Pa s",
+                   "viscosity cap"));
+  k.push_back(choice("continuum.wall", "\"no_slip\"", {"no_slip", "coulomb"},
+                     "intruder surface condition"));
+  k.push_back(real("continuum.wall_friction", false, "intruder.friction", 0, 10, false, false, "-",
+                   "mu_w of the Coulomb wall condition"));
+  k.push_back(choice("continuum.inertia", "\"auto\"", {"auto", "on", "off"},
+                     "rho (u.grad)u term: auto skips it when rho V^2 / P0 is negligible"));
+  k.push_back(vec2("continuum.box_half_size", false, "from the domain", 0, 1e4, "m",
+                   "half width and half height of the FE box around the intruder"));
+  k.push_back(integer("continuum.refinement", "3", 0, 8, "global refinement level of the mesh"));
+  k.push_back(integer("continuum.adaptive_cycles", "0", 0, 6, "adaptive refinement cycles"));
+  k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
+                   "relative nonlinear residual at which the solve stops"));
+  k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));
+  k.push_back(integer("continuum.picard_iterations", "5", 0, 1000, "Picard warm-up steps"));
+  k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct", "amg"},
+                     "direct (UMFPACK) or FGMRES with block AMG preconditioner"));
+  // [output]
+  k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
+  k.push_back(real("output.kernel_width_deg", false, "8.0", 0, 90, true, false, "deg",
+                   "standard deviation of the Gaussian surface kernel (Guillard eq. A4)"));
+  k.push_back(integer("output.histogram_bins", "24", 4, 720, "contact histogram bins (24 = pi/12)"));
+  k.push_back(integer("output.blocks", "20", 2, 10000, "blocks for block-averaged standard errors"));
+  k.push_back(boolean("output.fields", "true", "write fields on the grid in the intruder frame"));
+  k.push_back(real("output.field_spacing", false, "0.5", 0, 100, true, false, "d",
+                   "field grid spacing, in mean grain diameters"));
+  k.push_back(vec2("output.field_half_size", false, "[3.0, 3.0]", 0, 1e3, "D",
+                   "half extent of the field grid, in intruder diameters"));
+  k.push_back(boolean("output.vtu", "true", "continuum: write VTU files for ParaView"));
+  return k;
+}
+
+}  // namespace
+
+const std::vector<KeySpec>& case_keys() {
+  static const std::vector<KeySpec> keys = make_keys();
+  return keys;
+}
+
+const KeySpec* find_key(const std::string& path) {
+  for (const auto& k : case_keys())
+    if (k.path == path) return &k;
+  return nullptr;
+}
+
+bool is_section(const std::string& path) {
+  for (const auto& k : case_keys())
+    if (k.path.size() > path.size() && k.path.compare(0, path.size(), path) == 0 &&
+        k.path[path.size()] == '.')
+      return true;
+  return false;
+}
+
+std::string type_name(KeyType t) {
+  switch (t) {
+    case KeyType::real: return "number";
+    case KeyType::integer: return "integer";
+    case KeyType::boolean: return "boolean";
+    case KeyType::text: return "string";
+    case KeyType::vec2: return "[x, y] numbers";
+    case KeyType::bool2: return "[x, y] booleans";
+    case KeyType::text_list: return "list of strings";
+  }
+  return "?";
+}
+
+std::string accepted_range(const KeySpec& k) {
+  if (!k.choices.empty()) {
+    std::string s = "one of: ";
+    for (std::size_t i = 0; i < k.choices.size(); ++i) s += (i ? ", " : "") + k.choices[i];
+    return s;
+  }
+  switch (k.type) {
+    case KeyType::real:
+    case KeyType::integer:
+    case KeyType::vec2: {
+      auto num = [&](double v) {
+        if (v == inf) return std::string("inf");
+        if (v == -inf) return std::string("-inf");
+        return k.type == KeyType::integer ? fmt::format("{:.0f}", v) : fmt::format("{:g}", v);
+      };
+      return fmt::format("{}{}, {}{}", k.min_open ? "(" : "[", num(k.min), num(k.max),
+                         k.max_open ? ")" : "]");
+    }
+    case KeyType::boolean:
+    case KeyType::bool2: return "true or false";
+    default: return "any";
+  }
+}
+
+std::string keys_markdown() {
+  std::string out =
+      "| key | type | unit | default | accepted | meaning |\n|---|---|---|---|---|---|\n";
+  for (const auto& k : case_keys()) {
+    std::string def = k.required ? "**required**" : "`" + k.default_text + "`";
+    std::string desc = k.description;
+    if (!k.only_for_law.empty()) desc += " (law `" + k.only_for_law + "` only)";
+    out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", k.path, type_name(k.type), k.unit,
+                       def, accepted_range(k), desc);
+  }
+  return out;
+}
+
+}  // namespace grainlift

@@ -1,0 +1,436 @@
+#include "grainlift/shared/case_loader.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "grainlift/shared/case_keys.h"
+#include "grainlift/shared/errors.h"
+
+namespace grainlift {
+
+std::string fnv1a64_hex(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+namespace {
+
+/// Collects diagnostics; knows where each key came from (file line or --set argument).
+class Diagnostics {
+ public:
+  explicit Diagnostics(std::string file) : file_(std::move(file)) {}
+
+  void set_override_origin(const std::string& path, const std::string& arg) {
+    override_origin_[path] = arg;
+  }
+  std::string where(const std::string& path, const toml::node* node) const {
+    auto it = override_origin_.find(path);
+    if (it != override_origin_.end()) return fmt::format("--set '{}'", it->second);
+    if (node && node->source().begin.line > 0)
+      return fmt::format("{}:{}", file_, node->source().begin.line);
+    return file_;
+  }
+  void error(const std::string& where, const std::string& message) {
+    lines_.push_back(fmt::format("{}: {}", where, message));
+  }
+  /// Orders messages by file line (messages without a line, e.g. --set ones, come last).
+  void sort_by_line() {
+    auto line_of = [&](const std::string& l) {
+      const std::string prefix = file_ + ":";
+      if (l.compare(0, prefix.size(), prefix) != 0) return 1L << 40;
+      return std::strtol(l.c_str() + prefix.size(), nullptr, 10);
+    };
+    std::stable_sort(lines_.begin(), lines_.end(), [&](const std::string& a, const std::string& b) {
+      return line_of(a) < line_of(b);
+    });
+  }
+  bool empty() const { return lines_.empty(); }
+  std::string text() {
+    sort_by_line();
+    std::string s;
+    for (const auto& l : lines_) s += l + "\n";
+    return s;
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  std::map<std::string, std::string> override_origin_;
+  std::vector<std::string> lines_;
+};
+
+bool in_range(const KeySpec& k, double v) {
+  if (!std::isfinite(v)) return false;
+  if (k.min_open ? !(v > k.min) : !(v >= k.min)) return false;
+  if (k.max_open ? !(v < k.max) : !(v <= k.max)) return false;
+  return true;
+}
+
+std::string range_msg(const KeySpec& k) {
+  return fmt::format("accepted: {}{}", accepted_range(k),
+                     k.unit.empty() || k.unit == "-" ? "" : " " + k.unit);
+}
+
+/// Checks one leaf node against its spec; returns false (and reports) on a type/range error.
+bool check_value(const KeySpec& k, const toml::node& node, const std::string& where,
+                 Diagnostics& diag) {
+  auto number = [](const toml::node& n, double& out) {
+    if (auto f = n.as_floating_point()) { out = f->get(); return true; }
+    if (auto i = n.as_integer()) { out = double(i->get()); return true; }
+    return false;
+  };
+  const std::string expect =
+      fmt::format("'{}' must be {} ({})", k.path, type_name(k.type), range_msg(k));
+  switch (k.type) {
+    case KeyType::real: {
+      double v;
+      if (!number(node, v)) { diag.error(where, expect); return false; }
+      if (!in_range(k, v)) {
+        diag.error(where, fmt::format("'{}' = {} is out of range ({})", k.path, v, range_msg(k)));
+        return false;
+      }
+      return true;
+    }
+    case KeyType::integer: {
+      auto i = node.as_integer();
+      if (!i) { diag.error(where, expect); return false; }
+      if (!in_range(k, double(i->get()))) {
+        diag.error(where,
+                   fmt::format("'{}' = {} is out of range ({})", k.path, i->get(), range_msg(k)));
+        return false;
+      }
+      return true;
+    }
+    case KeyType::boolean:
+      if (!node.is_boolean()) { diag.error(where, expect); return false; }
+      return true;
+    case KeyType::text: {
+      auto s = node.as_string();
+      if (!s) { diag.error(where, expect); return false; }
+      if (!k.choices.empty() &&
+          std::find(k.choices.begin(), k.choices.end(), s->get()) == k.choices.end()) {
+        diag.error(where, fmt::format("'{}' = \"{}\" is not accepted ({})", k.path, s->get(),
+                                      range_msg(k)));
+        return false;
+      }
+      return true;
+    }
+    case KeyType::vec2: {
+      auto a = node.as_array();
+      double v[2];
+      if (!a || a->size() != 2 || !number(*a->get(0), v[0]) || !number(*a->get(1), v[1])) {
+        diag.error(where, expect);
+        return false;
+      }
+      for (double x : v)
+        if (!in_range(k, x)) {
+          diag.error(where, fmt::format("'{}' = [{}, {}] has a component out of range ({})",
+                                        k.path, v[0], v[1], range_msg(k)));
+          return false;
+        }
+      return true;
+    }
+    case KeyType::bool2: {
+      auto a = node.as_array();
+      if (!a || a->size() != 2 || !a->get(0)->is_boolean() || !a->get(1)->is_boolean()) {
+        diag.error(where, expect);
+        return false;
+      }
+      return true;
+    }
+    case KeyType::text_list: {
+      auto a = node.as_array();
+      if (!a) { diag.error(where, expect); return false; }
+      for (const auto& e : *a) {
+        auto s = e.as_string();
+        if (!s || std::find(k.choices.begin(), k.choices.end(), s->get()) == k.choices.end()) {
+          diag.error(where, expect);
+          return false;
+        }
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Walks the table: unknown keys, wrong types, out-of-range values.
+void check_table(const toml::table& table, const std::string& prefix, Diagnostics& diag,
+                 std::map<std::string, const toml::node*>& seen) {
+  for (const auto& [key, node] : table) {
+    const std::string path = prefix.empty() ? std::string(key.str())
+                                            : prefix + "." + std::string(key.str());
+    const std::string where = diag.where(path, &node);
+    if (node.is_table()) {
+      if (!is_section(path)) {
+        diag.error(where, fmt::format("unknown section [{}]", path));
+        continue;
+      }
+      check_table(*node.as_table(), path, diag, seen);
+      continue;
+    }
+    const KeySpec* spec = find_key(path);
+    if (!spec) {
+      if (is_section(path))
+        diag.error(where, fmt::format("'{}' must be a table (a [{}] section)", path, path));
+      else
+        diag.error(where, fmt::format("unknown key '{}' (see `grainlift keys` or "
+                                      "docs/case-format.md)", path));
+      continue;
+    }
+    if (check_value(*spec, node, where, diag)) seen[path] = &node;
+  }
+}
+
+/// Splits "a.b.c=value" and merges the value into @p root, creating tables as needed.
+void apply_override(toml::table& root, const std::string& arg, Diagnostics& diag) {
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    diag.error(fmt::format("--set '{}'", arg), "expected section.key=value");
+    return;
+  }
+  std::string path = arg.substr(0, eq);
+  const std::string value = arg.substr(eq + 1);
+  // Value in TOML syntax; a bare word that is not valid TOML is taken as a string.
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    try {
+      toml::table t;
+      t.insert("v", value);
+      parsed = std::move(t);
+    } catch (...) {
+      diag.error(fmt::format("--set '{}'", arg), "cannot parse the value");
+      return;
+    }
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  if (parts.size() < 2) {
+    diag.error(fmt::format("--set '{}'", arg), "expected section.key=value");
+    return;
+  }
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = t->get(parts[i]);
+    if (!n) {
+      t->insert(parts[i], toml::table{});
+      n = t->get(parts[i]);
+    }
+    if (!n->is_table()) {
+      diag.error(fmt::format("--set '{}'", arg), fmt::format("'{}' is not a section", parts[i]));
+      return;
+    }
+    t = n->as_table();
+  }
+  t->insert_or_assign(parts.back(), std::move(*parsed.get("v")));
+  diag.set_override_origin(path, arg);
+}
+
+// ---- typed getters (values are already validated) ------------------------------------------
+double get_real(const toml::table& r, const std::string& path, double def) {
+  auto n = r.at_path(path);
+  if (auto f = n.as_floating_point()) return f->get();
+  if (auto i = n.as_integer()) return double(i->get());
+  return def;
+}
+long long get_int(const toml::table& r, const std::string& path, long long def) {
+  if (auto i = r.at_path(path).as_integer()) return i->get();
+  return def;
+}
+bool get_bool(const toml::table& r, const std::string& path, bool def) {
+  return r.at_path(path).value_or(def);
+}
+std::string get_text(const toml::table& r, const std::string& path, const std::string& def) {
+  return r.at_path(path).value_or(def);
+}
+Vec2 get_vec2(const toml::table& r, const std::string& path, Vec2 def) {
+  if (auto a = r.at_path(path).as_array())
+    return {(*a)[0].value_or(0.0), (*a)[1].value_or(0.0)};
+  return def;
+}
+
+void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
+  auto where = [&](const std::string& path) { return diag.where(path, r.at_path(path).node()); };
+  const auto& d = c.domain;
+  if (!(d.x_range[1] > d.x_range[0]))
+    diag.error(where("domain.x_range"), "x_range must be [xmin, xmax] with xmax > xmin");
+  if (!(d.y_range[1] > d.y_range[0]))
+    diag.error(where("domain.y_range"), "y_range must be [ymin, ymax] with ymax > ymin");
+  if (d.periodic[0] && (d.wall_left || d.wall_right))
+    diag.error(where("domain.walls"), "walls 'left'/'right' need domain.periodic[0] = false");
+  if (d.periodic[1] && (d.wall_bottom || d.wall_top))
+    diag.error(where("domain.walls"), "walls 'bottom'/'top' need domain.periodic[1] = false");
+  const auto& in = c.intruder;
+  const double R = 0.5 * in.diameter;
+  if (in.position[0] < d.x_range[0] || in.position[0] > d.x_range[1] ||
+      in.position[1] - R < d.y_range[0] || in.position[1] + R > d.y_range[1])
+    diag.error(where("intruder.position"),
+               fmt::format("the intruder (centre [{}, {}] m, radius {} m) must lie inside the box",
+                           in.position[0], in.position[1], R));
+  if (std::hypot(in.velocity[0], in.velocity[1]) == 0)
+    diag.error(where("intruder.velocity"),
+               "intruder.velocity must not be zero (drag and lift are defined along V)");
+  if (c.dem.steady_travel >= c.dem.travel)
+    diag.error(where("dem.steady_travel"),
+               fmt::format("dem.steady_travel = {} must be less than dem.travel = {}",
+                           c.dem.steady_travel, c.dem.travel));
+  if (c.continuum.mu_2 < c.continuum.mu_s)
+    diag.error(where("continuum.mu_2"),
+               fmt::format("continuum.mu_2 = {} must be >= continuum.mu_s = {}", c.continuum.mu_2,
+                           c.continuum.mu_s));
+  const double Lx = d.x_range[1] - d.x_range[0], Ly = d.y_range[1] - d.y_range[0];
+  if (c.grains.diameter * 4 > std::min(Lx, Ly))
+    diag.error(where("grains.diameter"),
+               "the box must be at least 4 grain diameters wide in each direction");
+  // Law-specific contact keys may only appear with their law.
+  if (auto contact = r.at_path("grains.contact").as_table()) {
+    for (const auto& [key, node] : *contact) {
+      const std::string path = "grains.contact." + std::string(key.str());
+      const KeySpec* k = find_key(path);
+      if (k && !k->only_for_law.empty() && k->only_for_law != c.grains.contact.law)
+        diag.error(diag.where(path, &node),
+                   fmt::format("'{}' belongs to law \"{}\", but grains.contact.law = \"{}\"", path,
+                               k->only_for_law, c.grains.contact.law));
+    }
+  }
+}
+
+Case build_case(const toml::table& r) {
+  Case c;
+  c.scene.gravity = get_vec2(r, "scene.gravity", {0, 0});
+  c.domain.x_range = get_vec2(r, "domain.x_range", {0, 0});
+  c.domain.y_range = get_vec2(r, "domain.y_range", {0, 0});
+  if (auto a = r.at_path("domain.periodic").as_array())
+    c.domain.periodic = {(*a)[0].value_or(true), (*a)[1].value_or(false)};
+  if (auto a = r.at_path("domain.walls").as_array())
+    for (const auto& e : *a) {
+      const std::string w = e.value_or(std::string());
+      c.domain.wall_bottom |= w == "bottom";
+      c.domain.wall_top |= w == "top";
+      c.domain.wall_left |= w == "left";
+      c.domain.wall_right |= w == "right";
+    }
+  auto& g = c.grains;
+  g.diameter = get_real(r, "grains.diameter", 0);
+  g.polydispersity = get_real(r, "grains.polydispersity", 0.1);
+  g.density = get_real(r, "grains.density", 0);
+  g.area_fraction = get_real(r, "grains.area_fraction", 0);
+  g.friction = get_real(r, "grains.friction", 0.5);
+  auto& ct = g.contact;
+  ct.law = get_text(r, "grains.contact.law", "kumar2019");
+  ct.kn = get_real(r, "grains.contact.kn", ct.kn);
+  ct.kt = get_real(r, "grains.contact.kt", ct.kt);
+  ct.gamma_n = get_real(r, "grains.contact.gamma_n", ct.gamma_n);
+  ct.gamma_t = get_real(r, "grains.contact.gamma_t", ct.gamma_t);
+  ct.youngs_modulus = get_real(r, "grains.contact.youngs_modulus", ct.youngs_modulus);
+  ct.poisson_ratio = get_real(r, "grains.contact.poisson_ratio", ct.poisson_ratio);
+  ct.restitution = get_real(r, "grains.contact.restitution", ct.restitution);
+  auto& in = c.intruder;
+  in.diameter = get_real(r, "intruder.diameter", 0);
+  in.position = get_vec2(r, "intruder.position", {0, 0});
+  in.velocity = get_vec2(r, "intruder.velocity", {0, 0});
+  in.omega = get_real(r, "intruder.omega", 0);
+  in.spin_ramp_time = get_real(r, "intruder.spin_ramp_time", 0);
+  in.friction = get_real(r, "intruder.friction", g.friction);
+  auto& dm = c.dem;
+  dm.dt = get_real(r, "dem.dt", dm.dt);
+  dm.max_dt_fraction = get_real(r, "dem.max_dt_fraction", dm.max_dt_fraction);
+  dm.travel = get_real(r, "dem.travel", dm.travel);
+  dm.steady_travel = get_real(r, "dem.steady_travel", dm.steady_travel);
+  dm.seed = std::uint64_t(get_int(r, "dem.seed", 1));
+  dm.sample_every = int(get_int(r, "dem.sample_every", dm.sample_every));
+  dm.field_every = int(get_int(r, "dem.field_every", dm.field_every));
+  dm.relax_ke = get_real(r, "dem.relax_ke", dm.relax_ke);
+  dm.packing_cache = get_text(r, "dem.packing_cache", dm.packing_cache);
+  auto& cn = c.continuum;
+  cn.ambient_pressure = get_real(r, "continuum.ambient_pressure", 0);
+  cn.mu_s = get_real(r, "continuum.mu_s", cn.mu_s);
+  cn.mu_2 = get_real(r, "continuum.mu_2", cn.mu_2);
+  cn.I0 = get_real(r, "continuum.I0", cn.I0);
+  cn.regularisation = get_text(r, "continuum.regularisation", cn.regularisation);
+  cn.delta = get_real(r, "continuum.delta", cn.delta);
+  cn.eta_max = get_real(r, "continuum.eta_max", cn.eta_max);
+  cn.wall = get_text(r, "continuum.wall", cn.wall);
+  cn.wall_friction = get_real(r, "continuum.wall_friction", in.friction);
+  cn.inertia = get_text(r, "continuum.inertia", cn.inertia);
+  cn.box_half_size = get_vec2(r, "continuum.box_half_size", {0, 0});
+  cn.refinement = int(get_int(r, "continuum.refinement", cn.refinement));
+  cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles", cn.adaptive_cycles));
+  cn.tolerance = get_real(r, "continuum.tolerance", cn.tolerance);
+  cn.max_iterations = int(get_int(r, "continuum.max_iterations", cn.max_iterations));
+  cn.picard_iterations = int(get_int(r, "continuum.picard_iterations", cn.picard_iterations));
+  cn.linear_solver = get_text(r, "continuum.linear_solver", cn.linear_solver);
+  auto& o = c.output;
+  o.angles = int(get_int(r, "output.angles", o.angles));
+  o.kernel_width_deg = get_real(r, "output.kernel_width_deg", o.kernel_width_deg);
+  o.histogram_bins = int(get_int(r, "output.histogram_bins", o.histogram_bins));
+  o.blocks = int(get_int(r, "output.blocks", o.blocks));
+  o.fields = get_bool(r, "output.fields", o.fields);
+  o.field_spacing = get_real(r, "output.field_spacing", o.field_spacing);
+  o.field_half_size = get_vec2(r, "output.field_half_size", o.field_half_size);
+  o.vtu = get_bool(r, "output.vtu", o.vtu);
+  return c;
+}
+
+}  // namespace
+
+Case parse_case(const std::string& text, const std::string& name,
+                const std::vector<std::string>& overrides) {
+  Diagnostics diag(name);
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}:{}: invalid TOML: {}", name, e.source().begin.line,
+                                 e.source().begin.column, e.description()));
+  }
+  for (const auto& o : overrides) apply_override(root, o, diag);
+
+  std::map<std::string, const toml::node*> seen;
+  check_table(root, "", diag, seen);
+  for (const auto& k : case_keys())
+    if (k.required && !root.at_path(k.path))
+      diag.error(name, fmt::format("missing required key '{}' ({}, {}{})", k.path,
+                                   type_name(k.type), k.description,
+                                   k.unit == "-" ? "" : ", in " + k.unit));
+  if (!diag.empty()) throw InputError(diag.text());
+
+  Case c = build_case(root);
+  cross_checks(root, c, diag);
+  if (!diag.empty()) throw InputError(diag.text());
+
+  c.source.path = name;
+  c.source.text = text;
+  c.source.overrides = overrides;
+  std::string joined;
+  for (const auto& o : overrides) joined += o + "\n";
+  c.source.hash = fnv1a64_hex(text + "\n--\n" + joined);
+  std::ostringstream eff;
+  eff << root;
+  c.source.effective_toml = eff.str();
+  return c;
+}
+
+Case load_case(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open the case file", path));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: cannot read the case file", path));
+  return parse_case(ss.str(), path, overrides);
+}
+
+}  // namespace grainlift

@@ -1,0 +1,139 @@
+#include "grainlift/shared/compare.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "grainlift/shared/json_writer.h"
+#include "grainlift/shared/surface_stress.h"
+
+namespace grainlift {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+std::optional<double> relative(double a, double b) {
+  if (a == 0) return std::nullopt;
+  return (b - a) / std::abs(a);
+}
+
+/// Periodic linear interpolation of (theta, v) at angle t.
+double interpolate(const std::vector<double>& theta, const std::vector<double>& v, double t) {
+  const std::size_t n = theta.size();
+  if (n == 1) return v[0];
+  t = std::fmod(std::fmod(t, 2 * pi) + 2 * pi, 2 * pi);
+  // theta is sorted ascending within [0, 2 pi)
+  auto it = std::upper_bound(theta.begin(), theta.end(), t);
+  const std::size_t hi = it == theta.end() ? 0 : std::size_t(it - theta.begin());
+  const std::size_t lo = hi == 0 ? n - 1 : hi - 1;
+  double t0 = theta[lo], t1 = theta[hi];
+  if (t1 <= t0) t1 += 2 * pi;
+  double tt = t;
+  if (tt < t0) tt += 2 * pi;
+  const double w = (tt - t0) / (t1 - t0);
+  return (1 - w) * v[lo] + w * v[hi];
+}
+
+}  // namespace
+
+Comparison compare_results(const RunResult& a, const RunResult& b) {
+  Comparison c;
+  c.solver_a = a.meta.solver;
+  c.solver_b = b.meta.solver;
+  if (a.means && b.means) {
+    c.have_means = true;
+    c.drag_a = a.means->drag;
+    c.drag_b = b.means->drag;
+    c.lift_a = a.means->lift;
+    c.lift_b = b.means->lift;
+    c.torque_a = a.means->torque;
+    c.torque_b = b.means->torque;
+    c.drag_rel = relative(c.drag_a, c.drag_b);
+    c.lift_rel = relative(c.lift_a, c.lift_b);
+    c.torque_rel = relative(c.torque_a, c.torque_b);
+  }
+  if (a.surface && b.surface && !a.surface->theta.empty() && !b.surface->theta.empty()) {
+    c.have_surface = true;
+    if (a.geometry.pressure_scale > 0) {
+      c.pressure_scale = a.geometry.pressure_scale;
+      c.pressure_scale_from = "A: geometry.pressure_scale";
+    } else if (b.geometry.pressure_scale > 0) {
+      c.pressure_scale = b.geometry.pressure_scale;
+      c.pressure_scale_from = "B: geometry.pressure_scale";
+    } else {
+      for (double s : a.surface->sigma_n) c.pressure_scale = std::max(c.pressure_scale, std::abs(s));
+      c.pressure_scale_from = "A: max |sigma_n|";
+    }
+    const double P = c.pressure_scale > 0 ? c.pressure_scale : 1.0;
+    const auto& ta = a.surface->theta;
+    double sn2 = 0, st2 = 0;
+    for (std::size_t m = 0; m < ta.size(); ++m) {
+      const double dn =
+          interpolate(b.surface->theta, b.surface->sigma_n, ta[m]) - a.surface->sigma_n[m];
+      const double dt =
+          interpolate(b.surface->theta, b.surface->sigma_t, ta[m]) - a.surface->sigma_t[m];
+      sn2 += dn * dn;
+      st2 += dt * dt;
+      c.sigma_n_max = std::max(c.sigma_n_max, std::abs(dn) / P);
+      c.sigma_t_max = std::max(c.sigma_t_max, std::abs(dt) / P);
+    }
+    c.sigma_n_l2 = std::sqrt(sn2 / double(ta.size())) / P;
+    c.sigma_t_l2 = std::sqrt(st2 / double(ta.size())) / P;
+  }
+  return c;
+}
+
+std::string comparison_json(const Comparison& c, int indent) {
+  JsonObject o;
+  o.add("solver_a", c.solver_a);
+  o.add("solver_b", c.solver_b);
+  if (c.have_means) {
+    o.add("drag_a", c.drag_a);
+    o.add("drag_b", c.drag_b);
+    o.add("lift_a", c.lift_a);
+    o.add("lift_b", c.lift_b);
+    o.add("torque_a", c.torque_a);
+    o.add("torque_b", c.torque_b);
+    o.add("drag_rel", c.drag_rel);
+    o.add("lift_rel", c.lift_rel);
+    o.add("torque_rel", c.torque_rel);
+  }
+  if (c.have_surface) {
+    o.add("pressure_scale", c.pressure_scale);
+    o.add("pressure_scale_from", c.pressure_scale_from);
+    o.add("sigma_n_l2", c.sigma_n_l2);
+    o.add("sigma_n_max", c.sigma_n_max);
+    o.add("sigma_t_l2", c.sigma_t_l2);
+    o.add("sigma_t_max", c.sigma_t_max);
+  }
+  return o.str(indent);
+}
+
+std::string comparison_text(const Comparison& c) {
+  auto rel = [](const std::optional<double>& r) {
+    return r ? fmt::format("{:+.4f}", *r) : std::string("n/a (A = 0)");
+  };
+  std::string s = fmt::format("A: {}   B: {}\n", c.solver_a, c.solver_b);
+  if (c.have_means) {
+    s += fmt::format("  drag    A {:.6g}  B {:.6g}  (B-A)/|A| {}\n", c.drag_a, c.drag_b,
+                     rel(c.drag_rel));
+    s += fmt::format("  lift    A {:.6g}  B {:.6g}  (B-A)/|A| {}\n", c.lift_a, c.lift_b,
+                     rel(c.lift_rel));
+    s += fmt::format("  torque  A {:.6g}  B {:.6g}  (B-A)/|A| {}\n", c.torque_a, c.torque_b,
+                     rel(c.torque_rel));
+  } else {
+    s += "  no mean forces in one of the files\n";
+  }
+  if (c.have_surface) {
+    s += fmt::format("  pressure scale P = {:.6g} Pa ({})\n", c.pressure_scale,
+                     c.pressure_scale_from);
+    s += fmt::format("  sigma_n: L2 {:.4g} P, max {:.4g} P\n", c.sigma_n_l2, c.sigma_n_max);
+    s += fmt::format("  sigma_t: L2 {:.4g} P, max {:.4g} P\n", c.sigma_t_l2, c.sigma_t_max);
+  } else {
+    s += "  no surface distribution in one of the files\n";
+  }
+  return s;
+}
+
+}  // namespace grainlift

@@ -1,0 +1,451 @@
+#include "grainlift/shared/result_file.h"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <cstdio>
+#include <cstring>
+#include <functional>
+
+#include "grainlift/shared/atomic_file.h"
+#include "grainlift/shared/errors.h"
+
+namespace grainlift {
+namespace {
+
+/// Owns one HDF5 identifier and closes it with the matching function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  operator hid_t() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw RunError("HDF5: " + what + " failed");
+}
+
+// ---- writing ---------------------------------------------------------------------------------
+Handle make_group(hid_t parent, const char* name) {
+  Handle g(H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  if (!g.valid()) throw RunError(fmt::format("HDF5: cannot create group {}", name));
+  return g;
+}
+
+Handle string_type(std::size_t size) {
+  Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
+  check(H5Tset_size(t, size == 0 ? 1 : size), "H5Tset_size");
+  check(H5Tset_cset(t, H5T_CSET_UTF8), "H5Tset_cset");
+  check(H5Tset_strpad(t, H5T_STR_NULLPAD), "H5Tset_strpad");
+  return t;
+}
+
+void attr_string(hid_t obj, const char* name, const std::string& value) {
+  Handle type = string_type(value.size());
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle a(H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!a.valid()) throw RunError(fmt::format("HDF5: cannot create attribute {}", name));
+  const std::string padded = value.empty() ? std::string(1, '\0') : value;
+  check(H5Awrite(a, type, padded.data()), "H5Awrite");
+}
+
+template <typename T>
+void attr_number(hid_t obj, const char* name, T value) {
+  const hid_t type = std::is_floating_point<T>::value ? H5T_NATIVE_DOUBLE : H5T_NATIVE_LLONG;
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle a(H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!a.valid()) throw RunError(fmt::format("HDF5: cannot create attribute {}", name));
+  if constexpr (std::is_floating_point<T>::value) {
+    const double v = value;
+    check(H5Awrite(a, type, &v), "H5Awrite");
+  } else {
+    const long long v = value;
+    check(H5Awrite(a, type, &v), "H5Awrite");
+  }
+}
+
+void dataset_string(hid_t parent, const char* name, const std::string& value) {
+  Handle type = string_type(value.size());
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  Handle d(H5Dcreate2(parent, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Dclose);
+  if (!d.valid()) throw RunError(fmt::format("HDF5: cannot create dataset {}", name));
+  const std::string padded = value.empty() ? std::string(1, '\0') : value;
+  check(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()), "H5Dwrite");
+}
+
+/// 1D (ny == 0) or 2D [ny][nx] dataset of doubles with a "units" attribute.
+void dataset_doubles(hid_t parent, const char* name, const std::vector<double>& v,
+                     const char* units, std::size_t ny = 0, std::size_t nx = 0) {
+  hsize_t dims[2] = {ny ? ny : v.size(), nx};
+  if (ny && ny * nx != v.size())
+    throw RunError(fmt::format("HDF5: dataset {} has {} values, expected {} x {}", name,
+                               v.size(), ny, nx));
+  Handle space(H5Screate_simple(ny ? 2 : 1, dims, nullptr), H5Sclose);
+  Handle d(H5Dcreate2(parent, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Dclose);
+  if (!d.valid()) throw RunError(fmt::format("HDF5: cannot create dataset {}", name));
+  if (!v.empty()) check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+                        "H5Dwrite");
+  attr_string(d, "units", units);
+}
+
+void write_body(hid_t file, const RunResult& r) {
+  attr_string(file, "schema", "grainlift");
+  attr_number(file, "schema_version", static_cast<long long>(schema_version));
+  attr_string(file, "solver", r.meta.solver);
+  {
+    Handle g = make_group(file, "metadata");
+    attr_string(g, "solver", r.meta.solver);
+    attr_string(g, "grainlift_version", r.meta.grainlift_version);
+    attr_string(g, "git_revision", r.meta.git_revision);
+    attr_number(g, "threads", static_cast<long long>(r.meta.threads));
+    attr_number(g, "wall_seconds", r.meta.wall_seconds);
+    attr_string(g, "created_utc", r.meta.created_utc);
+    attr_string(g, "notes", r.meta.notes);
+  }
+  {
+    Handle g = make_group(file, "case");
+    dataset_string(g, "text", r.meta.case_text);
+    dataset_string(g, "overrides", r.meta.case_overrides);
+    attr_string(g, "hash", r.meta.case_hash);
+    attr_string(g, "hash_algorithm", "fnv1a64(text + \"\\n--\\n\" + overrides)");
+    attr_string(g, "path", r.meta.case_path);
+  }
+  {
+    const Geometry& q = r.geometry;
+    Handle g = make_group(file, "geometry");
+    attr_number(g, "intruder_diameter", q.intruder_diameter);
+    attr_number(g, "intruder_x", q.intruder_x);
+    attr_number(g, "intruder_y", q.intruder_y);
+    attr_number(g, "grain_diameter", q.grain_diameter);
+    attr_number(g, "domain_xmin", q.domain_xmin);
+    attr_number(g, "domain_xmax", q.domain_xmax);
+    attr_number(g, "domain_ymin", q.domain_ymin);
+    attr_number(g, "domain_ymax", q.domain_ymax);
+    attr_number(g, "velocity_x", q.velocity_x);
+    attr_number(g, "velocity_y", q.velocity_y);
+    attr_number(g, "omega", q.omega);
+    attr_number(g, "gravity_x", q.gravity_x);
+    attr_number(g, "gravity_y", q.gravity_y);
+    attr_number(g, "bulk_density", q.bulk_density);
+    attr_number(g, "pressure_scale", q.pressure_scale);
+  }
+  if (r.forces) {
+    const ForceSeries& f = *r.forces;
+    Handle g = make_group(file, "forces");
+    dataset_doubles(g, "time", f.time, "s");
+    dataset_doubles(g, "fx", f.fx, "N/m");
+    dataset_doubles(g, "fy", f.fy, "N/m");
+    dataset_doubles(g, "torque", f.torque, "N");
+    if (!f.contacts.empty()) dataset_doubles(g, "contacts", f.contacts, "1");
+  }
+  if (r.means) {
+    const MeanForces& m = *r.means;
+    Handle g = make_group(file, "means");
+    attr_number(g, "drag", m.drag);
+    attr_number(g, "lift", m.lift);
+    attr_number(g, "torque", m.torque);
+    if (m.drag_stderr) attr_number(g, "drag_stderr", *m.drag_stderr);
+    if (m.lift_stderr) attr_number(g, "lift_stderr", *m.lift_stderr);
+    if (m.torque_stderr) attr_number(g, "torque_stderr", *m.torque_stderr);
+    if (m.contacts) attr_number(g, "contacts", *m.contacts);
+    attr_number(g, "samples", static_cast<long long>(m.samples));
+    attr_number(g, "blocks", static_cast<long long>(m.blocks));
+  }
+  if (r.surface) {
+    const SurfaceDistribution& s = *r.surface;
+    Handle g = make_group(file, "surface");
+    dataset_doubles(g, "theta", s.theta, "rad");
+    dataset_doubles(g, "sigma_n", s.sigma_n, "Pa");
+    dataset_doubles(g, "sigma_t", s.sigma_t, "Pa");
+    attr_number(g, "kernel_width_deg", s.kernel_width_deg);
+  }
+  if (r.histogram) {
+    const SurfaceHistogram& h = *r.histogram;
+    Handle g = make_group(file, "histogram");
+    dataset_doubles(g, "theta_lo", h.theta_lo, "rad");
+    dataset_doubles(g, "theta_hi", h.theta_hi, "rad");
+    dataset_doubles(g, "contact_count", h.contact_count, "1");
+    dataset_doubles(g, "normal_force", h.normal_force, "N/m");
+    dataset_doubles(g, "tangential_force", h.tangential_force, "N/m");
+    dataset_doubles(g, "slip_fraction", h.slip_fraction, "1");
+  }
+  if (r.fields) {
+    const FieldGrid& fg = *r.fields;
+    Handle g = make_group(file, "fields");
+    dataset_doubles(g, "x", fg.x, "m");
+    dataset_doubles(g, "y", fg.y, "m");
+    const std::size_t ny = fg.y.size(), nx = fg.x.size();
+    auto put = [&](const char* name, const std::optional<std::vector<double>>& v,
+                   const char* units) {
+      if (v) dataset_doubles(g, name, *v, units, ny, nx);
+    };
+    put("velocity_x", fg.velocity_x, "m/s");
+    put("velocity_y", fg.velocity_y, "m/s");
+    put("pressure", fg.pressure, "Pa");
+    put("stress_xx", fg.stress_xx, "Pa");
+    put("stress_xy", fg.stress_xy, "Pa");
+    put("stress_yy", fg.stress_yy, "Pa");
+    put("area_fraction", fg.area_fraction, "1");
+    put("granular_temperature", fg.granular_temperature, "m^2/s^2");
+  }
+}
+
+// ---- reading ---------------------------------------------------------------------------------
+bool exists(hid_t parent, const char* name) { return H5Lexists(parent, name, H5P_DEFAULT) > 0; }
+bool has_attr(hid_t obj, const char* name) { return H5Aexists(obj, name) > 0; }
+
+std::string read_attr_string(hid_t obj, const char* name) {
+  if (!has_attr(obj, name)) return {};
+  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  Handle type(H5Aget_type(a), H5Tclose);
+  const std::size_t n = H5Tget_size(type);
+  std::string s(n, '\0');
+  Handle mem = string_type(n);
+  check(H5Aread(a, mem, s.data()), "H5Aread");
+  s.resize(std::strlen(s.c_str()));
+  return s;
+}
+double read_attr_double(hid_t obj, const char* name) {
+  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  if (!a.valid()) throw InputError(fmt::format("missing attribute {}", name));
+  double v = 0;
+  check(H5Aread(a, H5T_NATIVE_DOUBLE, &v), "H5Aread");
+  return v;
+}
+long long read_attr_int(hid_t obj, const char* name) {
+  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  if (!a.valid()) throw InputError(fmt::format("missing attribute {}", name));
+  long long v = 0;
+  check(H5Aread(a, H5T_NATIVE_LLONG, &v), "H5Aread");
+  return v;
+}
+std::optional<double> read_attr_optional(hid_t obj, const char* name) {
+  if (!has_attr(obj, name)) return std::nullopt;
+  return read_attr_double(obj, name);
+}
+std::string read_dataset_string(hid_t parent, const char* name) {
+  if (!exists(parent, name)) return {};
+  Handle d(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose);
+  Handle type(H5Dget_type(d), H5Tclose);
+  const std::size_t n = H5Tget_size(type);
+  std::string s(n, '\0');
+  Handle mem = string_type(n);
+  check(H5Dread(d, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()), "H5Dread");
+  s.resize(std::strlen(s.c_str()));
+  return s;
+}
+std::vector<double> read_doubles(hid_t parent, const char* name) {
+  Handle d(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose);
+  if (!d.valid()) throw InputError(fmt::format("missing dataset {}", name));
+  Handle space(H5Dget_space(d), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  std::vector<double> v(static_cast<std::size_t>(n));
+  if (n > 0)
+    check(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "H5Dread");
+  return v;
+}
+std::optional<std::vector<double>> read_optional(hid_t parent, const char* name) {
+  if (!exists(parent, name)) return std::nullopt;
+  return read_doubles(parent, name);
+}
+
+RunResult read_body(hid_t file) {
+  RunResult r;
+  if (read_attr_string(file, "schema") != "grainlift")
+    throw InputError("not a grainlift result file (no schema = \"grainlift\" attribute)");
+  const long long version = read_attr_int(file, "schema_version");
+  if (version > schema_version)
+    throw InputError(fmt::format("schema_version {} is newer than this grainlift reads ({})",
+                                 version, schema_version));
+  {
+    Handle g(H5Gopen2(file, "metadata", H5P_DEFAULT), H5Gclose);
+    if (!g.valid()) throw InputError("missing group /metadata");
+    r.meta.solver = read_attr_string(g, "solver");
+    r.meta.grainlift_version = read_attr_string(g, "grainlift_version");
+    r.meta.git_revision = read_attr_string(g, "git_revision");
+    r.meta.threads = int(read_attr_int(g, "threads"));
+    r.meta.wall_seconds = read_attr_double(g, "wall_seconds");
+    r.meta.created_utc = read_attr_string(g, "created_utc");
+    r.meta.notes = read_attr_string(g, "notes");
+  }
+  {
+    Handle g(H5Gopen2(file, "case", H5P_DEFAULT), H5Gclose);
+    if (!g.valid()) throw InputError("missing group /case");
+    r.meta.case_text = read_dataset_string(g, "text");
+    r.meta.case_overrides = read_dataset_string(g, "overrides");
+    r.meta.case_hash = read_attr_string(g, "hash");
+    r.meta.case_path = read_attr_string(g, "path");
+  }
+  {
+    Handle g(H5Gopen2(file, "geometry", H5P_DEFAULT), H5Gclose);
+    if (!g.valid()) throw InputError("missing group /geometry");
+    Geometry& q = r.geometry;
+    q.intruder_diameter = read_attr_double(g, "intruder_diameter");
+    q.intruder_x = read_attr_double(g, "intruder_x");
+    q.intruder_y = read_attr_double(g, "intruder_y");
+    q.grain_diameter = read_attr_double(g, "grain_diameter");
+    q.domain_xmin = read_attr_double(g, "domain_xmin");
+    q.domain_xmax = read_attr_double(g, "domain_xmax");
+    q.domain_ymin = read_attr_double(g, "domain_ymin");
+    q.domain_ymax = read_attr_double(g, "domain_ymax");
+    q.velocity_x = read_attr_double(g, "velocity_x");
+    q.velocity_y = read_attr_double(g, "velocity_y");
+    q.omega = read_attr_double(g, "omega");
+    q.gravity_x = read_attr_double(g, "gravity_x");
+    q.gravity_y = read_attr_double(g, "gravity_y");
+    q.bulk_density = read_attr_double(g, "bulk_density");
+    q.pressure_scale = read_attr_double(g, "pressure_scale");
+  }
+  if (exists(file, "forces")) {
+    Handle g(H5Gopen2(file, "forces", H5P_DEFAULT), H5Gclose);
+    ForceSeries f;
+    f.time = read_doubles(g, "time");
+    f.fx = read_doubles(g, "fx");
+    f.fy = read_doubles(g, "fy");
+    f.torque = read_doubles(g, "torque");
+    if (exists(g, "contacts")) f.contacts = read_doubles(g, "contacts");
+    r.forces = std::move(f);
+  }
+  if (exists(file, "means")) {
+    Handle g(H5Gopen2(file, "means", H5P_DEFAULT), H5Gclose);
+    MeanForces m;
+    m.drag = read_attr_double(g, "drag");
+    m.lift = read_attr_double(g, "lift");
+    m.torque = read_attr_double(g, "torque");
+    m.drag_stderr = read_attr_optional(g, "drag_stderr");
+    m.lift_stderr = read_attr_optional(g, "lift_stderr");
+    m.torque_stderr = read_attr_optional(g, "torque_stderr");
+    m.contacts = read_attr_optional(g, "contacts");
+    m.samples = read_attr_int(g, "samples");
+    m.blocks = read_attr_int(g, "blocks");
+    r.means = m;
+  }
+  if (exists(file, "surface")) {
+    Handle g(H5Gopen2(file, "surface", H5P_DEFAULT), H5Gclose);
+    SurfaceDistribution s;
+    s.theta = read_doubles(g, "theta");
+    s.sigma_n = read_doubles(g, "sigma_n");
+    s.sigma_t = read_doubles(g, "sigma_t");
+    s.kernel_width_deg = read_attr_double(g, "kernel_width_deg");
+    r.surface = std::move(s);
+  }
+  if (exists(file, "histogram")) {
+    Handle g(H5Gopen2(file, "histogram", H5P_DEFAULT), H5Gclose);
+    SurfaceHistogram h;
+    h.theta_lo = read_doubles(g, "theta_lo");
+    h.theta_hi = read_doubles(g, "theta_hi");
+    h.contact_count = read_doubles(g, "contact_count");
+    h.normal_force = read_doubles(g, "normal_force");
+    h.tangential_force = read_doubles(g, "tangential_force");
+    h.slip_fraction = read_doubles(g, "slip_fraction");
+    r.histogram = std::move(h);
+  }
+  if (exists(file, "fields")) {
+    Handle g(H5Gopen2(file, "fields", H5P_DEFAULT), H5Gclose);
+    FieldGrid f;
+    f.x = read_doubles(g, "x");
+    f.y = read_doubles(g, "y");
+    f.velocity_x = read_optional(g, "velocity_x");
+    f.velocity_y = read_optional(g, "velocity_y");
+    f.pressure = read_optional(g, "pressure");
+    f.stress_xx = read_optional(g, "stress_xx");
+    f.stress_xy = read_optional(g, "stress_xy");
+    f.stress_yy = read_optional(g, "stress_yy");
+    f.area_fraction = read_optional(g, "area_fraction");
+    f.granular_temperature = read_optional(g, "granular_temperature");
+    r.fields = std::move(f);
+  }
+  return r;
+}
+
+/// HDF5 prints its error stack to stderr by default; grainlift reports errors itself.
+void silence_hdf5() {
+  static const bool done = [] {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace
+
+void write_result(const std::string& path, const RunResult& result) {
+  silence_hdf5();
+  const std::string tmp = temporary_path_for(path);
+  {
+    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw InputError(fmt::format("{}: cannot create the file", path));
+    try {
+      write_body(file, result);
+    } catch (...) {
+      std::remove(tmp.c_str());
+      throw;
+    }
+    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) {
+      std::remove(tmp.c_str());
+      throw RunError(fmt::format("{}: flushing the file failed", path));
+    }
+  }
+  commit_file(tmp, path);
+}
+
+RunResult read_result(const std::string& path) {
+  silence_hdf5();
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) throw InputError(fmt::format("{}: cannot open as an HDF5 file", path));
+  try {
+    return read_body(file);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));
+  }
+}
+
+void write_fields_xdmf(const std::string& xmf_path, const std::string& h5_name,
+                       const RunResult& r) {
+  if (!r.fields || r.fields->x.size() < 2 || r.fields->y.size() < 2) return;
+  const FieldGrid& f = *r.fields;
+  const std::size_t nx = f.x.size(), ny = f.y.size();
+  const double dx = f.x[1] - f.x[0], dy = f.y[1] - f.y[0];
+  // Cell-centred data on a co-rectilinear grid: nodes at the cell corners.
+  std::string attrs;
+  auto add = [&](const char* name, const std::optional<std::vector<double>>& v) {
+    if (!v) return;
+    attrs += fmt::format(
+        "      <Attribute Name=\"{0}\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+        "        <DataItem Dimensions=\"{1} {2}\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"HDF\">{3}:/fields/{0}</DataItem>\n      </Attribute>\n",
+        name, ny, nx, h5_name);
+  };
+  add("velocity_x", f.velocity_x);
+  add("velocity_y", f.velocity_y);
+  add("pressure", f.pressure);
+  add("stress_xx", f.stress_xx);
+  add("stress_xy", f.stress_xy);
+  add("stress_yy", f.stress_yy);
+  add("area_fraction", f.area_fraction);
+  add("granular_temperature", f.granular_temperature);
+  const std::string text = fmt::format(
+      "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
+      "    <Grid Name=\"{0} fields (intruder frame)\" GridType=\"Uniform\">\n"
+      "      <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"{1} {2}\"/>\n"
+      "      <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
+      "        <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">{3} {4}</DataItem>\n"
+      "        <DataItem Dimensions=\"2\" NumberType=\"Float\" Format=\"XML\">{5} {6}</DataItem>\n"
+      "      </Geometry>\n{7}    </Grid>\n  </Domain>\n</Xdmf>\n",
+      r.meta.solver, ny + 1, nx + 1, f.y[0] - 0.5 * dy, f.x[0] - 0.5 * dx, dy, dx, attrs);
+  write_text_atomically(xmf_path, text);
+}
+
+}  // namespace grainlift

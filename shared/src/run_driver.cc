@@ -1,0 +1,140 @@
+#include "grainlift/shared/run_driver.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+
+#include "grainlift/shared/atomic_file.h"
+#include "grainlift/shared/compare.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/json_writer.h"
+#include "grainlift/shared/result_file.h"
+
+#ifndef GRAINLIFT_VERSION
+#define GRAINLIFT_VERSION "0.0.0"
+#endif
+#ifndef GRAINLIFT_GIT_REVISION
+#define GRAINLIFT_GIT_REVISION "unknown"
+#endif
+
+namespace grainlift {
+
+std::string grainlift_version() { return GRAINLIFT_VERSION; }
+std::string grainlift_git_revision() { return GRAINLIFT_GIT_REVISION; }
+
+namespace {
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+JsonObject summary_object(const RunResult& r) {
+  JsonObject o;
+  if (r.means) {
+    o.add("drag", r.means->drag);
+    o.add("lift", r.means->lift);
+    o.add("torque", r.means->torque);
+    o.add("drag_stderr", r.means->drag_stderr);
+    o.add("lift_stderr", r.means->lift_stderr);
+    o.add("torque_stderr", r.means->torque_stderr);
+    if (r.means->contacts) o.add("contacts", *r.means->contacts);
+    o.add("samples", static_cast<long long>(r.means->samples));
+    if (r.means->drag != 0) o.add("lift_over_drag", r.means->lift / r.means->drag);
+  }
+  const double speed = std::hypot(r.geometry.velocity_x, r.geometry.velocity_y);
+  o.add("spin_ratio", speed > 0 ? r.geometry.omega * 0.5 * r.geometry.intruder_diameter / speed
+                                : 0.0);
+  const double g = std::hypot(r.geometry.gravity_x, r.geometry.gravity_y);
+  if (g > 0 && r.means) {
+    const double buoyancy = r.geometry.bulk_density * g * 3.14159265358979323846 *
+                            r.geometry.intruder_diameter * r.geometry.intruder_diameter / 4;
+    o.add("buoyancy", buoyancy);
+    o.add("lift_over_buoyancy", r.means->lift / buoyancy);
+  }
+  o.add("pressure_scale", r.geometry.pressure_scale);
+  o.add("wall_seconds", r.meta.wall_seconds);
+  o.add("threads", r.meta.threads);
+  o.add("case_hash", r.meta.case_hash);
+  if (!r.meta.notes.empty()) o.add("notes", r.meta.notes);
+  return o;
+}
+
+}  // namespace
+
+std::string summary_object_json(const RunResult& r) { return summary_object(r).str(2); }
+
+void write_summary(const std::string& out_dir, const std::string& case_hash) {
+  JsonObject root;
+  std::optional<RunResult> dem, fem;
+  for (const char* solver : {"dem", "fem"}) {
+    const std::string path = out_dir + "/" + solver + ".h5";
+    if (!std::filesystem::exists(path)) continue;
+    RunResult r;
+    try {
+      r = read_result(path);
+    } catch (const InputError&) {
+      continue;  // not ours or unreadable: leave it out of the summary
+    }
+    if (r.meta.case_hash != case_hash) continue;
+    root.add(solver, summary_object(r));
+    (std::string(solver) == "dem" ? dem : fem) = std::move(r);
+  }
+  if (dem && fem) {
+    const Comparison c = compare_results(*dem, *fem);
+    JsonObject cmp;
+    cmp.add("reference", std::string("dem"));
+    if (c.drag_rel) cmp.add("drag_rel", *c.drag_rel);
+    if (c.lift_rel) cmp.add("lift_rel", *c.lift_rel);
+    if (c.torque_rel) cmp.add("torque_rel", *c.torque_rel);
+    if (c.have_surface) {
+      cmp.add("pressure_scale", c.pressure_scale);
+      cmp.add("sigma_n_l2", c.sigma_n_l2);
+      cmp.add("sigma_n_max", c.sigma_n_max);
+      cmp.add("sigma_t_l2", c.sigma_t_l2);
+      cmp.add("sigma_t_max", c.sigma_t_max);
+    }
+    root.add("compare", cmp);
+  }
+  write_text_atomically(out_dir + "/summary.json", root.str(2) + "\n");
+}
+
+std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
+                                   const RunOptions& options) {
+  make_directories(options.out_dir);
+  std::vector<RunResult> results;
+  for (const auto& solver : solvers) {
+    ProgressReporter progress(solver.name, options.progress);
+    const auto t0 = std::chrono::steady_clock::now();
+    RunResult r = solver.run(c, options, progress);
+    r.meta.solver = solver.name;
+    r.meta.grainlift_version = grainlift_version();
+    r.meta.git_revision = grainlift_git_revision();
+    r.meta.threads = options.threads;
+    r.meta.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.meta.created_utc = utc_now();
+    r.meta.case_text = c.source.text;
+    std::string overrides;
+    for (const auto& o : c.source.overrides) overrides += o + "\n";
+    r.meta.case_overrides = overrides;
+    r.meta.case_hash = c.source.hash;
+    r.meta.case_path = c.source.path;
+    const std::string h5 = options.out_dir + "/" + solver.name + ".h5";
+    write_result(h5, r);
+    write_fields_xdmf(options.out_dir + "/" + solver.name + "_fields.xmf", solver.name + ".h5", r);
+    progress.finish();
+    results.push_back(std::move(r));
+  }
+  write_summary(options.out_dir, c.source.hash);
+  return results;
+}
+
+}  // namespace grainlift

@@ -1,0 +1,90 @@
+// The mu(I) kernel: formula, limits and derivatives (no finite elements involved).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "grainlift/continuum/mu_i_rheology.h"
+
+using namespace grainlift::continuum;
+
+namespace {
+struct Eval {
+  double eta, eta_s, eta_p, mu, I;
+};
+Eval eval(const ViscosityModel& m, double s, double p) {
+  RheologyInputs in;
+  in.resize(1);
+  RheologyOutputs out;
+  out.resize(1);
+  in.strain_rate_sq[0] = s;
+  in.pressure[0] = p;
+  m.evaluate(in, out);
+  return {out.viscosity[0], out.deta_dstrain_sq[0], out.deta_dpressure[0], out.friction[0],
+          out.inertial_number[0]};
+}
+}  // namespace
+
+// Simple shear at rate gamma: |D| = gamma / 2, so I = gamma d / sqrt(p / rho_s) and the
+// shear stress 2 eta D_xy = eta gamma must equal mu(I) p (Jop et al. 2006) when delta << |D|.
+TEST(MuIRheology, SimpleShearGivesMuOfIP) {
+  RheologyParams prm;
+  prm.delta = 1e-9;
+  prm.eta_max = 1e12;
+  MuIRheology m(prm);
+  const double gamma = 20, p = 300;
+  const Eval e = eval(m, 0.25 * gamma * gamma, p);
+  const double I = gamma * prm.grain_diameter / std::sqrt(p / prm.solid_density);
+  const double mu = prm.mu_s + (prm.mu_2 - prm.mu_s) / (prm.I0 / I + 1);
+  EXPECT_NEAR(e.I, I, 1e-12 * I);
+  EXPECT_NEAR(e.mu, mu, 1e-12);
+  EXPECT_NEAR(e.eta * gamma, mu * p, 1e-6 * mu * p);
+}
+
+// The pressure is clamped at zero inside the rheology: p <= 0 gives the floor eta_min and no
+// pressure derivative; the cap eta_max applies at vanishing strain rate.
+TEST(MuIRheology, ClampFloorAndCap) {
+  RheologyParams prm;
+  MuIRheology m(prm);
+  const Eval neg = eval(m, 1.0, -5.0);
+  EXPECT_EQ(neg.eta, prm.eta_min);
+  EXPECT_EQ(neg.eta_p, 0.0);
+  const Eval rigid = eval(m, 0.0, 1000.0);
+  EXPECT_EQ(rigid.eta, prm.eta_max);
+  EXPECT_EQ(rigid.eta_s, 0.0);
+}
+
+// d eta / d|D|^2 and d eta / dp against central differences (relative error < 1e-6), for both
+// regularisations, away from the cap.
+TEST(MuIRheology, DerivativesMatchFiniteDifferences) {
+  for (const auto reg : {Regularisation::chauchat_medale, Regularisation::barker_gray}) {
+    RheologyParams prm;
+    prm.regularisation = reg;
+    prm.delta = 0.5;
+    prm.eta_max = 1e12;
+    prm.barker_gray_IN = 1e-2;
+    MuIRheology m(prm);
+    for (const double s : {1e-3, 0.3, 10.0, 400.0})
+      for (const double p : {5.0, 100.0, 2000.0}) {
+        const Eval e = eval(m, s, p);
+        const double hs = 1e-6 * s, hp = 1e-6 * p;
+        const double fd_s = (eval(m, s + hs, p).eta - eval(m, s - hs, p).eta) / (2 * hs);
+        const double fd_p = (eval(m, s, p + hp).eta - eval(m, s, p - hp).eta) / (2 * hp);
+        EXPECT_NEAR(e.eta_s, fd_s, 1e-6 * std::abs(fd_s) + 1e-12 * e.eta / s) << "s=" << s << " p=" << p;
+        EXPECT_NEAR(e.eta_p, fd_p, 1e-6 * std::abs(fd_p) + 1e-12) << "s=" << s << " p=" << p;
+      }
+  }
+}
+
+// Barker & Gray 2017: below I_N, mu = sqrt(alpha / ln(A / I)) joins mu(I) with the same value
+// and slope at I_N (relative mismatch < 1e-9) and tends to 0 as I -> 0.
+TEST(MuIRheology, BarkerGrayBranchIsC1AndVanishesAtZero) {
+  RheologyParams prm;
+  prm.regularisation = Regularisation::barker_gray;
+  prm.barker_gray_IN = 5e-3;
+  MuIRheology m(prm);
+  const double IN = prm.barker_gray_IN, e = 1e-9;
+  EXPECT_NEAR(m.friction(IN * (1 - e)), m.friction(IN * (1 + e)), 1e-9);
+  EXPECT_NEAR(m.dfriction_dI(IN * (1 - e)), m.dfriction_dI(IN * (1 + e)), 1e-6 * m.dfriction_dI(IN));
+  EXPECT_LT(m.friction(1e-300), 0.1);
+  EXPECT_GT(m.friction(1e-6), 0);
+}

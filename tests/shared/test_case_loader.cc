@@ -1,0 +1,218 @@
+// Case parsing and validation: every kind of error names the file, the line and the accepted
+// range; --set overrides win over the file, the last one wins, and are validated the same way.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "grainlift/shared/case_keys.h"
+#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/errors.h"
+
+using namespace grainlift;
+
+namespace {
+
+// A minimal valid case: Kumar's geometry reduced; line numbers below refer to this text.
+const std::string base = R"(# test case
+[domain]
+x_range = [-0.6, 0.6]
+y_range = [-0.4, 0.4]
+periodic = [true, false]
+walls = ["bottom", "top"]
+
+[intruder]
+diameter = 0.1
+velocity = [1.0, 0.0]
+omega = 40.0
+
+[grains]
+diameter = 0.02
+density = 20.0
+area_fraction = 0.8
+friction = 0.5
+)";
+
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_case(text, "case.toml", sets);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(CaseLoader, ValidCaseFillsDefaultsAndDerivedQuantities) {
+  const Case c = parse_case(base, "case.toml");
+  EXPECT_DOUBLE_EQ(c.intruder.diameter, 0.1);
+  EXPECT_DOUBLE_EQ(c.intruder.velocity[0], 1.0);
+  EXPECT_TRUE(c.domain.wall_bottom && c.domain.wall_top);
+  EXPECT_FALSE(c.domain.wall_left);
+  // Defaults from the registry: Kumar Table I and Guillard's kernel width.
+  EXPECT_EQ(c.grains.contact.law, "kumar2019");
+  EXPECT_DOUBLE_EQ(c.grains.contact.kt, 2.45e9);
+  EXPECT_DOUBLE_EQ(c.dem.dt, 2e-6);
+  EXPECT_DOUBLE_EQ(c.output.kernel_width_deg, 8.0);
+  EXPECT_EQ(c.output.angles, 64);
+  // intruder.friction defaults to grains.friction, continuum.wall_friction to intruder.friction
+  EXPECT_DOUBLE_EQ(c.intruder.friction, 0.5);
+  EXPECT_DOUBLE_EQ(c.continuum.wall_friction, 0.5);
+  // Omega = omega R / V = 40 * 0.05 / 1 = 2 (Kumar eq. 4), exact in floating point to 1e-12
+  EXPECT_NEAR(c.spin_ratio(), 2.0, 1e-12);
+  // rho = Phi rho_s = 16 kg/m^3 (per unit length)
+  EXPECT_NEAR(c.bulk_density(), 16.0, 1e-12);
+  EXPECT_EQ(c.source.hash.size(), 16u);
+}
+
+TEST(CaseLoader, LithostaticCentrePressure) {
+  // rho g depth: rho = 0.8 * 20 = 16, g = 10, depth = 0.4 - 0.1 = 0.3 -> 48 Pa; the
+  // continuum adds its ambient pressure on top.
+  const Case c = parse_case(base + "[scene]\ngravity = [0.0, -10.0]\n[continuum]\n"
+                            "ambient_pressure = 2.0\n",
+                            "case.toml", {"intruder.position=[0.0, 0.1]"});
+  EXPECT_NEAR(c.lithostatic_pressure(), 16 * 10 * 0.3, 1e-9);
+  EXPECT_NEAR(c.continuum_pressure(), 2.0 + 16 * 10 * 0.3, 1e-9);
+}
+
+TEST(CaseLoader, UnknownKeyNamesFileLineAndKey) {
+  std::string text = base;
+  text.insert(text.find("omega"), "spinn = 3.0\n");  // line 11
+  const std::string e = error_of(text);
+  EXPECT_TRUE(contains(e, "case.toml:11:")) << e;
+  EXPECT_TRUE(contains(e, "unknown key 'intruder.spinn'")) << e;
+}
+
+TEST(CaseLoader, UnknownSectionIsAnError) {
+  const std::string e = error_of(base + "[granular]\nx = 1\n");
+  EXPECT_TRUE(contains(e, "unknown section [granular]")) << e;
+  EXPECT_TRUE(contains(e, "case.toml:18:")) << e;
+}
+
+TEST(CaseLoader, MissingRequiredKeyIsNamedWithItsUnit) {
+  std::string text = base;
+  text.erase(text.find("diameter = 0.1\n"), std::string("diameter = 0.1\n").size());
+  const std::string e = error_of(text);
+  EXPECT_TRUE(contains(e, "missing required key 'intruder.diameter'")) << e;
+  EXPECT_TRUE(contains(e, "in m")) << e;
+}
+
+TEST(CaseLoader, WrongTypeNamesLineAndExpectedType) {
+  std::string text = base;
+  text.replace(text.find("omega = 40.0"), 12, "omega = \"fast\"");
+  const std::string e = error_of(text);
+  EXPECT_TRUE(contains(e, "case.toml:11:")) << e;
+  EXPECT_TRUE(contains(e, "'intruder.omega' must be number")) << e;
+}
+
+TEST(CaseLoader, OutOfRangeNamesAcceptedRange) {
+  std::string text = base;
+  text.replace(text.find("area_fraction = 0.8"), 19, "area_fraction = 1.2");
+  const std::string e = error_of(text);
+  EXPECT_TRUE(contains(e, "case.toml:16:")) << e;
+  EXPECT_TRUE(contains(e, "'grains.area_fraction' = 1.2 is out of range")) << e;
+  EXPECT_TRUE(contains(e, "accepted: (0, 0.9]")) << e;
+}
+
+TEST(CaseLoader, ChoiceOutsideListNamesTheChoices) {
+  const std::string e = error_of(base + "[grains.contact]\nlaw = \"hooke\"\n");
+  EXPECT_TRUE(contains(e, "one of: kumar2019, guillard2014")) << e;
+}
+
+TEST(CaseLoader, ContactKeyOfTheOtherLawIsRefused) {
+  const std::string e =
+      error_of(base + "[grains.contact]\nlaw = \"guillard2014\"\nkn = 1e9\n");
+  EXPECT_TRUE(contains(e, "belongs to law \"kumar2019\"")) << e;
+  EXPECT_TRUE(contains(e, "case.toml:20:")) << e;
+}
+
+TEST(CaseLoader, CrossChecksGeometryAndRun) {
+  // wall on a periodic direction
+  std::string e = error_of(base, {"domain.periodic=[true, true]"});
+  EXPECT_TRUE(contains(e, "walls 'bottom'/'top' need domain.periodic[1] = false")) << e;
+  // intruder outside the box
+  e = error_of(base, {"intruder.position=[0.0, 0.39]"});
+  EXPECT_TRUE(contains(e, "must lie inside the box")) << e;
+  // zero velocity
+  e = error_of(base, {"intruder.velocity=[0.0, 0.0]"});
+  EXPECT_TRUE(contains(e, "must not be zero")) << e;
+  // averaging must start before the end
+  e = error_of(base, {"dem.travel=20.0", "dem.steady_travel=30.0"});
+  EXPECT_TRUE(contains(e, "must be less than dem.travel")) << e;
+}
+
+TEST(CaseLoader, InvalidTomlNamesLineAndColumn) {
+  const std::string e = error_of(base + "[dem\n");
+  EXPECT_TRUE(contains(e, "case.toml:18:")) << e;
+  EXPECT_TRUE(contains(e, "invalid TOML")) << e;
+}
+
+TEST(CaseLoader, AllErrorsAreReportedTogether) {
+  std::string text = base;
+  text.replace(text.find("area_fraction = 0.8"), 19, "area_fraction = 1.2");
+  text.replace(text.find("friction = 0.5"), 14, "friction = -1.0");
+  const std::string e = error_of(text);
+  EXPECT_TRUE(contains(e, "grains.area_fraction")) << e;
+  EXPECT_TRUE(contains(e, "grains.friction")) << e;
+}
+
+TEST(CaseLoader, OverridesWinOverTheFileAndTheLastOneWins) {
+  const Case c = parse_case(base, "case.toml",
+                            {"grains.friction=0.3", "intruder.omega=10", "intruder.omega=20.0"});
+  EXPECT_DOUBLE_EQ(c.grains.friction, 0.3);
+  EXPECT_DOUBLE_EQ(c.intruder.omega, 20.0);  // last --set wins; an integer is accepted as real
+  // the defaulted friction of the intruder follows the overridden grain friction
+  EXPECT_DOUBLE_EQ(c.intruder.friction, 0.3);
+  // overrides can add keys and sub-tables the file does not have; bare words are strings
+  const Case d = parse_case(base, "case.toml", {"grains.contact.law=guillard2014",
+                                                 "grains.contact.restitution=0.7"});
+  EXPECT_EQ(d.grains.contact.law, "guillard2014");
+  EXPECT_DOUBLE_EQ(d.grains.contact.restitution, 0.7);
+  // the case hash records the overrides
+  EXPECT_NE(parse_case(base, "case.toml").source.hash, c.source.hash);
+  EXPECT_EQ(c.source.overrides.size(), 3u);
+}
+
+TEST(CaseLoader, OverridesAreValidatedAndNamedInErrors) {
+  std::string e = error_of(base, {"grains.friction=-2"});
+  EXPECT_TRUE(contains(e, "--set 'grains.friction=-2'")) << e;
+  EXPECT_TRUE(contains(e, "accepted: [0, 10]")) << e;
+  e = error_of(base, {"grains.fricton=0.2"});
+  EXPECT_TRUE(contains(e, "unknown key 'grains.fricton'")) << e;
+  e = error_of(base, {"nonsense"});
+  EXPECT_TRUE(contains(e, "expected section.key=value")) << e;
+}
+
+TEST(CaseLoader, UnreadableFileIsAnInputError) {
+  EXPECT_THROW(load_case("/nonexistent/case.toml"), InputError);
+}
+
+TEST(CaseLoader, EveryShippedCaseValidates) {
+  // Physics: none; every case folder the project ships must hold valid cases and a README.
+  int cases = 0;
+  for (const auto& dir : std::filesystem::directory_iterator(GRAINLIFT_SOURCE_DIR "/cases")) {
+    if (!dir.is_directory()) continue;
+    EXPECT_TRUE(std::filesystem::exists(dir.path() / "README.md")) << dir.path();
+    for (const auto& f : std::filesystem::directory_iterator(dir.path()))
+      if (f.path().extension() == ".toml") {
+        EXPECT_NO_THROW(load_case(f.path().string())) << f.path();
+        ++cases;
+      }
+  }
+  EXPECT_GE(cases, 3);
+}
+
+TEST(CaseKeys, DocsListEveryKey) {
+  // docs/case-format.md embeds the registry table; a key added without docs fails here.
+  std::ifstream in(GRAINLIFT_SOURCE_DIR "/docs/case-format.md");
+  ASSERT_TRUE(in) << "docs/case-format.md missing";
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(contains(doc, keys_markdown()))
+      << "regenerate the table with `build/bin/grainlift keys --markdown`";
+}
