@@ -96,7 +96,7 @@ void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneou
 void FlowProblem::setup_system() {
   dof_handler_.distribute_dofs(fe_);
   DoFRenumbering::Cuthill_McKee(dof_handler_);
-  DoFRenumbering::component_wise(dof_handler_, std::vector<unsigned int>{0, 0, 1});
+  DoFRenumbering::component_wise(dof_handler_);  // u_x, then u_y, then p
   make_constraints(nonzero_constraints_, false);
   make_constraints(zero_constraints_, true);
   DynamicSparsityPattern dsp(dof_handler_.n_dofs());

@@ -1,0 +1,112 @@
+#!/usr/bin/python3
+"""Plots of `grainlift sweep` tables (sweep.csv) against the papers' trends.
+
+  plot_sweep.py ld-omega  OUT.png  CSV[:LABEL] ...   L/D against spin ratio Omega
+  plot_sweep.py drag-speed OUT.png CSV[:LABEL] ...   drag against V0, log-log, fitted slope
+  plot_sweep.py ld-mu     OUT.png  CSV[:LABEL] ...   L/D against mu (saturated spin), with
+                                                     L/D = mu and Kumar eq. (15)
+Error bars are the block-average standard errors (propagated for ratios). Prints the table
+it plots, so the numbers can go into docs/."""
+import csv
+import math
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def first_number(text):
+    text = text.strip().strip('"').strip("[]")
+    return float(text.split(",")[0])
+
+
+def read(spec):
+    path, _, label = spec.partition(":")
+    rows = [r for r in csv.DictReader(open(path)) if r["solver"] == "dem" or r["solver"] == "fem"]
+    return rows, label or path
+
+
+def num(r, key):
+    v = r.get(key, "")
+    return float(v) if v not in ("", None) else float("nan")
+
+
+def ratio_err(r):
+    d, l = num(r, "drag"), num(r, "lift")
+    sd, sl = num(r, "drag_stderr"), num(r, "lift_stderr")
+    if not (math.isfinite(sd) and math.isfinite(sl)) or d == 0:
+        return float("nan")
+    return abs(l / d) * math.sqrt((sl / l) ** 2 + (sd / d) ** 2) if l != 0 else abs(sl / d)
+
+
+def main(argv):
+    if len(argv) < 4:
+        print(__doc__)
+        return 2
+    mode, out, specs = argv[1], argv[2], argv[3:]
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    for spec in specs:
+        rows, label = read(spec)
+        if mode == "ld-omega":
+            x = np.array([num(r, "spin_ratio") for r in rows])
+            y = np.array([num(r, "lift") / num(r, "drag") for r in rows])
+            e = np.array([ratio_err(r) for r in rows])
+            ax.errorbar(x, y, yerr=e, marker="o", capsize=3, label=label)
+            print(f"# {label}\n# Omega  L/D  stderr  drag  lift  wall_s")
+            for r, xi, yi, ei in zip(rows, x, y, e):
+                print(f"{xi:8.3f} {yi:8.4f} {ei:8.4f} {num(r,'drag'):10.4g} {num(r,'lift'):10.4g}"
+                      f" {num(r,'wall_seconds'):8.1f}")
+        elif mode == "drag-speed":
+            x = np.array([first_number(r["value"]) for r in rows])
+            y = np.array([num(r, "drag") for r in rows])
+            e = np.array([num(r, "drag_stderr") for r in rows])
+            ax.errorbar(x, y, yerr=e, marker="o", ls="none", capsize=3, label=label)
+            ok = (x > 0) & (y > 0)
+            slope, icpt = np.polyfit(np.log(x[ok]), np.log(y[ok]), 1)
+            xx = np.linspace(x[ok].min(), x[ok].max(), 50)
+            ax.plot(xx, np.exp(icpt) * xx ** slope, "--", label=f"fit: slope {slope:.2f}")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            print(f"# {label}: log-log slope {slope:.3f} (paper: about 2)\n# V0  drag  stderr")
+            for xi, yi, ei in zip(x, y, e):
+                print(f"{xi:8.3f} {yi:10.4g} {ei:10.3g}")
+        elif mode == "ld-mu":
+            x = np.array([first_number(r["value"]) for r in rows])
+            y = np.array([-num(r, "lift") / num(r, "drag") for r in rows])
+            e = np.array([ratio_err(r) for r in rows])
+            ax.errorbar(x, y, yerr=e, marker="o", capsize=3, label=label + " (-L/D)")
+            print(f"# {label}\n# mu  -L/D  stderr")
+            for xi, yi, ei in zip(x, y, e):
+                print(f"{xi:6.3f} {yi:8.4f} {ei:8.4f}")
+        else:
+            print(f"unknown mode {mode}", file=sys.stderr)
+            return 2
+    if mode == "ld-omega":
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_xlabel("spin ratio Omega = omega R / V0")
+        ax.set_ylabel("L / D  (negative: along -omega x V)")
+    elif mode == "drag-speed":
+        ax.set_xlabel("V0 (m/s)")
+        ax.set_ylabel("mean drag D (N/m)")
+    elif mode == "ld-mu":
+        mu = np.linspace(0, max(1.0, ax.get_xlim()[1]), 50)
+        ax.plot(mu, mu, "k:", label="L/D = mu (Kumar eq. 9)")
+        for kappa in (0.9, 0.95):
+            m = mu[mu > 0.05]
+            ax.plot(m, kappa * m - (1 - kappa) / m, "--", lw=0.8,
+                    label=f"Kumar eq. 15, kappa {kappa}")
+        ax.set_ylim(bottom=0)
+        ax.set_xlabel("friction coefficient mu")
+        ax.set_ylabel("|L / D| at saturated spin")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    print("wrote", out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,110 @@
+// The run driver: each solver's result lands in <out>/<solver>.h5 with the case verbatim and
+// its hash; summary.json carries the stable names scripts rely on (drag, lift, torque,
+// drag_stderr, lift_stderr, wall_seconds per solver, "compare" when both ran); a failing
+// solver leaves earlier complete files untouched.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/result_file.h"
+#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/surface_stress.h"
+
+using namespace grainlift;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* case_text = R"([domain]
+x_range = [-0.5, 0.5]
+y_range = [-0.5, 0.5]
+[intruder]
+diameter = 0.1
+velocity = [1.0, 0.0]
+[grains]
+diameter = 0.02
+density = 20.0
+area_fraction = 0.5
+)";
+
+SolverEntry fake(const std::string& name, double drag, double lift, bool with_stderr) {
+  SolverEntry e;
+  e.name = name;
+  e.description = "fake";
+  e.run = [=](const Case& c, const RunOptions&, ProgressReporter&) {
+    RunResult r;
+    r.geometry.intruder_diameter = c.intruder.diameter;
+    r.geometry.velocity_x = c.intruder.velocity[0];
+    r.geometry.pressure_scale = 100;
+    MeanForces m;
+    m.drag = drag;
+    m.lift = lift;
+    m.torque = 0.1;
+    if (with_stderr) {
+      m.drag_stderr = 0.5;
+      m.lift_stderr = 0.25;
+    }
+    m.samples = 1;
+    r.means = m;
+    SurfaceDistribution s;
+    s.theta = surface_angle_grid(16);
+    s.sigma_n.assign(16, drag);
+    s.sigma_t.assign(16, 0.0);
+    r.surface = s;
+    return r;
+  };
+  return e;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST(RunDriver, WritesFilesAndSummaryWithStableNames) {
+  const fs::path out = fs::temp_directory_path() / ("grainlift_driver_" + std::to_string(getpid()));
+  const Case c = parse_case(case_text, "fake.toml", {"intruder.omega=3.0"});
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.progress = false;
+  run_solvers(c, {fake("dem", 10, -2, true), fake("fem", 12, -1, false)}, opt);
+
+  const RunResult dem = read_result((out / "dem.h5").string());
+  EXPECT_EQ(dem.meta.solver, "dem");
+  EXPECT_EQ(dem.meta.case_text, case_text);
+  EXPECT_EQ(dem.meta.case_overrides, "intruder.omega=3.0\n");
+  EXPECT_EQ(dem.meta.case_hash, c.source.hash);
+  EXPECT_GE(dem.meta.wall_seconds, 0.0);
+
+  const std::string json = slurp(out / "summary.json");
+  for (const char* key : {"\"dem\"", "\"fem\"", "\"compare\"", "\"drag\"", "\"lift\"",
+                          "\"torque\"", "\"drag_stderr\"", "\"lift_stderr\"", "\"wall_seconds\"",
+                          "\"drag_rel\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+  // fem has no standard errors: null, never 0
+  EXPECT_NE(json.find("\"drag_stderr\": null"), std::string::npos) << json;
+  // drag_rel = (12 - 10) / 10 = 0.2 exactly representable to 1e-15
+  EXPECT_NE(json.find("\"drag_rel\": 0.2"), std::string::npos) << json;
+}
+
+TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
+  const fs::path out = fs::temp_directory_path() / ("grainlift_driver2_" + std::to_string(getpid()));
+  const Case c = parse_case(case_text, "fake.toml");
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.progress = false;
+  run_solvers(c, {fake("dem", 10, -2, true)}, opt);
+  SolverEntry broken = fake("dem", 0, 0, false);
+  broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
+    throw RunError("diverged at step 12");
+  };
+  EXPECT_THROW(run_solvers(c, {broken}, opt), RunError);
+  const RunResult back = read_result((out / "dem.h5").string());
+  EXPECT_DOUBLE_EQ(back.means->drag, 10);  // the old complete file survives
+}
