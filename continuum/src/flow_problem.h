@@ -10,7 +10,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
-#include <deal.II/fe/mapping_q.h>
+#include <deal.II/fe/mapping_q_cache.h>
 #include <deal.II/grid/grid_tools_cache.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -144,7 +144,7 @@ class FlowProblem {
   dealii::Triangulation<dim>& tria_;
   ProblemSetup setup_;
   dealii::FESystem<dim> fe_;
-  dealii::MappingQ<dim> mapping_;
+  dealii::MappingQCache<dim> mapping_;  ///< Q2 isoparametric, support points cached once
   dealii::DoFHandler<dim> dof_handler_;
   dealii::AffineConstraints<double> zero_constraints_, nonzero_constraints_;
   dealii::SparsityPattern sparsity_;

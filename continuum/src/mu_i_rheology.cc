@@ -86,9 +86,17 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
       deta_ds = pe / (2 * gd) * dmu * dI_ds - mu * pe / (4 * gd * gd * gd);
       deta_dp = (mu - 0.5 * I * dmu) / (2 * gd);
     }
-    if (eta > p_.eta_max) {
+    // smooth cap: eta_max tanh(eta / eta_max) (relative change (eta/eta_max)^2 / 3 when
+    // eta << eta_max); keeps Newton's Jacobian continuous where the cap switches on
+    if (eta > 20 * p_.eta_max) {
       eta = p_.eta_max; deta_ds = 0; deta_dp = 0;
-    } else if (eta < p_.eta_min) {
+    } else {
+      const double th = std::tanh(eta / p_.eta_max), dcap = 1 - th * th;
+      eta = p_.eta_max * th;
+      deta_ds *= dcap;
+      deta_dp *= dcap;
+    }
+    if (eta < p_.eta_min) {
       eta = p_.eta_min; deta_ds = 0; deta_dp = 0;
     }
     out.viscosity[q] = eta;

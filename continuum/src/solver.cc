@@ -3,11 +3,13 @@
 #include "grainlift/continuum/solver.h"
 
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/manifold_lib.h>
 #include <deal.II/grid/tria.h>
 
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "flow_problem.h"
@@ -33,13 +35,84 @@ void require(bool ok, const std::string& what) {
 
 bool finite(double x) { return std::isfinite(x); }
 
+/// Sizes of the padding cells between the central block (half-size b) and the box edge
+/// (distance pad): the first is b, each next 1.4 times larger, scaled to fit exactly.
+std::vector<double> padding_steps(double b, double pad) {
+  std::vector<double> steps;
+  if (pad <= 1e-12 * b) return steps;
+  double sum = 0, s = b;
+  while (sum < pad * (1 - 1e-9)) {
+    steps.push_back(s);
+    sum += s;
+    s *= 1.4;
+  }
+  for (double& x : steps) x *= pad / sum;
+  return steps;
+}
+
+/// Box [-W, W] x [-H, H] with a hole of radius R at the origin. A square block of half-size
+/// b = 2R around the hole (8 cells, polar manifold on the hole, transfinite interpolation inside)
+/// is merged into a tensor grid whose cells grow geometrically (ratio 1.4) away from the block.
+/// Boundary ids: 0 x = -W, 1 x = W, 2 y = -H, 3 y = H, 4 the hole. After @p refinement global
+/// refinements the block is refined once more (the mesh is finest at the intruder).
+void make_intruder_mesh(Triangulation<2>& tria, double R, double W, double H, int refinement) {
+  const double b = std::min(2 * R, 0.5 * (R + std::min(W, H)));
+  const auto steps_along = [b](double half) {
+    const std::vector<double> pad = padding_steps(b, half - b);
+    std::vector<double> steps(pad.rbegin(), pad.rend());
+    steps.push_back(b);
+    steps.push_back(b);
+    steps.insert(steps.end(), pad.begin(), pad.end());
+    return steps;
+  };
+  Triangulation<2> outer, outer_holed, block;
+  GridGenerator::subdivided_hyper_rectangle(outer, {steps_along(W), steps_along(H)},
+                                            Point2(-W, -H), Point2(W, H), false);
+  std::set<Triangulation<2>::active_cell_iterator> central;
+  for (const auto& cell : outer.active_cell_iterators())
+    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b) central.insert(cell);
+  GridGenerator::create_triangulation_with_removed_cells(outer, central, outer_holed);
+  GridGenerator::hyper_cube_with_cylindrical_hole(block, R, b, 1.0, 1, false);
+  GridGenerator::merge_triangulations(outer_holed, block, tria, 1e-9 * R);
+
+  tria.reset_all_manifolds();
+  tria.set_all_manifold_ids(numbers::flat_manifold_id);
+  const double tol = 1e-6 * R;
+  for (const auto& cell : tria.active_cell_iterators()) {
+    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b)
+      cell->set_all_manifold_ids(1);
+  }
+  for (const auto& cell : tria.active_cell_iterators())
+    for (const auto& face : cell->face_iterators()) {
+      if (!face->at_boundary()) continue;
+      const Point2 c = face->center();
+      if (std::abs(face->vertex(0).norm() - R) < tol && std::abs(face->vertex(1).norm() - R) < tol) {
+        face->set_boundary_id(kHole);
+        face->set_manifold_id(0);
+      } else if (std::abs(c[0] + W) < tol) face->set_boundary_id(kLeft);
+      else if (std::abs(c[0] - W) < tol) face->set_boundary_id(kRight);
+      else if (std::abs(c[1] + H) < tol) face->set_boundary_id(kBottom);
+      else face->set_boundary_id(kTop);
+    }
+  tria.set_manifold(0, PolarManifold<2>(Point2()));
+  TransfiniteInterpolationManifold<2> tfi;
+  tfi.initialize(tria);
+  tria.set_manifold(1, tfi);
+
+  tria.refine_global(refinement);
+  for (const auto& cell : tria.active_cell_iterators())
+    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b) cell->set_refine_flag();
+  tria.execute_coarsening_and_refinement();
+}
+
 }  // namespace
 
 void validate_config(const ContinuumConfig& c) {
-  const double R = 0.5 * c.intruder_diameter;
   require(finite(c.intruder_diameter) && c.intruder_diameter > 0, "intruder_diameter must be > 0");
-  require(finite(c.half_width) && c.half_width >= 2 * R, "half_width must be >= intruder_diameter");
-  require(finite(c.half_height) && c.half_height >= 2 * R, "half_height must be >= intruder_diameter");
+  require(finite(c.half_width) && c.half_width >= 1.5 * c.intruder_diameter,
+          "half_width must be >= 1.5 intruder_diameter");
+  require(finite(c.half_height) && c.half_height >= 1.5 * c.intruder_diameter,
+          "half_height must be >= 1.5 intruder_diameter");
   require(finite(c.intruder_velocity[0]) && finite(c.intruder_velocity[1]), "intruder_velocity must be finite");
   require(finite(c.intruder_omega), "intruder_omega must be finite");
   require(finite(c.gravity[0]) && finite(c.gravity[1]), "gravity must be finite");
@@ -90,13 +163,9 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const double omega = c.intruder_omega, rho = c.bulk_density, P0 = c.ambient_pressure;
     const double speed = V.norm();
 
-    // ---- mesh: a square block of half-size b with the hole (polar manifold on the hole,
-    // transfinite interpolation in the block) padded to the box; refined globally.
+    // ---- mesh (see make_intruder_mesh)
     Triangulation<internal::dim> tria;
-    const double b = std::min(2.5 * R, 0.999 * std::min(W, H));
-    GridGenerator::plate_with_a_hole(tria, R, b, H - b, H - b, W - b, W - b, Point2(), 0, 1, 1.0, 2,
-                                     true);
-    tria.refine_global(c.refinement);
+    make_intruder_mesh(tria, R, W, H, c.refinement);
 
     // ---- physics
     MuIRheology rheology(c.rheology);

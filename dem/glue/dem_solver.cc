@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
@@ -93,10 +94,17 @@ RunResult to_result(const Case& c, const DemOutput& out, const DemConfig& cfg) {
     FieldGrid g;
     for (int i = 0; i < a.nx; ++i) g.x.push_back(cfg.fields.x0 + (i + 0.5) * cfg.fields.spacing);
     for (int j = 0; j < a.ny; ++j) g.y.push_back(cfg.fields.y0 + (j + 0.5) * cfg.fields.spacing);
-    g.velocity_x = a.vx;
-    g.velocity_y = a.vy;
+    // Velocity and temperature are undefined in bins no grain ever covered (the wake cavity,
+    // the intruder): NaN there, not zero.
+    auto where_grains = [&](std::vector<double> v) {
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (!(a.area_fraction[i] > 0)) v[i] = std::numeric_limits<double>::quiet_NaN();
+      return v;
+    };
+    g.velocity_x = where_grains(a.vx);
+    g.velocity_y = where_grains(a.vy);
     g.area_fraction = a.area_fraction;
-    g.granular_temperature = a.granular_temperature;
+    g.granular_temperature = where_grains(a.granular_temperature);
     g.stress_xx = a.sxx;
     g.stress_xy = a.sxy;
     g.stress_yy = a.syy;

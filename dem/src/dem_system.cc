@@ -56,6 +56,8 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
     }
   }
   skin_ = opt_.skin > 0 ? opt_.skin : 0.2 * rmax;
+  // Below ~kMinGrainsPerThread grains per thread the fork-join costs more than it saves.
+  team_ = std::max(1, std::min(opt_.threads, n_grains_ / kMinGrainsPerThread));
   nl_.clear();
   ic_ = IntruderContacts{};
   ic_old_ = IntruderContacts{};
@@ -143,7 +145,7 @@ double DemSystem::normal_elastic_energy() const {
 
 void DemSystem::build_lists() {
   nl_.build(opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), n_grains_, n_total_, skin_,
-            opt_.threads);
+            team_);
   for (int i = 0; i < n_total_; ++i) {
     p_.x_build[i] = p_.x[i];
     p_.y_build[i] = p_.y[i];
@@ -206,7 +208,7 @@ void DemSystem::compute_forces(double spring_dt) {
   const int ng = n_grains_;
   double max_ov = max_overlap_;
 
-#pragma omp parallel for schedule(static) num_threads(opt_.threads) reduction(max : max_ov)
+#pragma omp parallel for schedule(static) num_threads(team_) reduction(max : max_ov)
   for (int i = 0; i < ng; ++i) {
     const double xi = x[i], yi = y[i], ri = r[i], imi = inv_m[i];
     const double vhxi = vx[i], vhyi = vy[i], whi = w[i];
@@ -327,7 +329,7 @@ void DemSystem::finish_kick(bool first_call) {
   const int ng = n_grains_;
   ParticleArrays& p = p_;
   const IntruderContacts& ic = ic_;
-#pragma omp parallel for schedule(static) num_threads(opt_.threads)
+#pragma omp parallel for schedule(static) num_threads(team_)
   for (int i = 0; i < ng; ++i) {
     double fx = 0, fy = 0, qs = 0;
     for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
@@ -374,7 +376,7 @@ void DemSystem::step() {
   ParticleArrays& p = p_;
   const int ng = n_grains_;
   double maxd2 = 0;
-#pragma omp parallel for schedule(static) num_threads(opt_.threads) reduction(max : maxd2)
+#pragma omp parallel for schedule(static) num_threads(team_) reduction(max : maxd2)
   for (int i = 0; i < ng; ++i) {
     p.vx[i] += h * p.ax[i];
     p.vy[i] += h * p.ay[i];

@@ -27,7 +27,7 @@ struct SystemOptions {
   ContactParams contact;
   double dt = 2e-6;       ///< s
   double skin = 0;        ///< m, Verlet skin (0: 0.1 of the largest diameter)
-  int threads = 1;
+  int threads = 1;        ///< OpenMP threads (at most one per kMinGrainsPerThread grains)
   std::array<double, 2> gravity{0, 0};  ///< m/s^2, on grains only
 };
 
@@ -66,6 +66,9 @@ struct IntruderContacts {
 
 class DemSystem {
  public:
+  /// Fewer grains per thread than this and the step runs on fewer threads (same results).
+  static constexpr int kMinGrainsPerThread = 500;
+
   explicit DemSystem(const SystemOptions& options);
 
   /// @brief Replace all bodies. Velocities as given, histories cleared, accelerations
@@ -115,6 +118,8 @@ class DemSystem {
   double normal_elastic_energy() const;
   /// Number of neighbour-list builds so far.
   int list_builds() const { return builds_; }
+  /// Threads the step runs on: min(threads, grains / kMinGrainsPerThread), at least 1.
+  int threads_used() const { return team_; }
 
  private:
   void build_lists();
@@ -125,6 +130,7 @@ class DemSystem {
   LawCoefficients law_;
   double mu_ = 0, mu_intruder_ = 0;
   double skin_ = 0;
+  int team_ = 1;  ///< threads actually used
   double damping_rate_ = 0;
   double growth_since_build_ = 0;  ///< m, largest radius increase since the last build
   int n_grains_ = 0, n_total_ = 0;

@@ -1,0 +1,34 @@
+// The two beds of the throughput benchmark, shared by dem_throughput and the LAMMPS export.
+#pragma once
+
+#include <cstdlib>
+
+#include "grainlift/dem/dem_config.h"
+
+namespace grainlift::bench {
+
+/// Kumar's geometry scaled down: a box of w x h mean diameters (d = 0.02 m), walls of frozen
+/// disks top and bottom, periodic in x, intruder of 5 d at the origin moving at 1 m/s with
+/// Omega = 2; Kumar's Table I contact law, dt = 2e-6 s. Dense: 180 d x 140 d at Phi 0.82
+/// (~26,000 disks); dilute: 260 d x 200 d at Phi 0.35 (~23,000 disks).
+inline dem::DemConfig bed_config(double phi) {
+  dem::DemConfig c;
+  const double d = c.grain_diameter;
+  const double w = phi > 0.5 ? 180 : 260, h = phi > 0.5 ? 140 : 200;
+  c.xmin = -0.5 * w * d;
+  c.xmax = 0.5 * w * d;
+  c.ymin = -0.5 * h * d;
+  c.ymax = 0.5 * h * d;
+  c.wall_bottom = c.wall_top = true;
+  c.area_fraction = phi;
+  c.intruder_diameter = 5 * d;
+  c.intruder_velocity = {1.0, 0.0};
+  c.intruder_omega = 2.0 / (2.5 * d);
+  c.dt = 2e-6;
+  c.threads = 1;  // packing preparation; the benchmark sets its own thread count
+  const char* dir = std::getenv("GRAINLIFT_BENCH_CACHE");
+  c.packing_cache_dir = dir ? dir : "/tmp/grainlift_bench_cache";
+  return c;
+}
+
+}  // namespace grainlift::bench

@@ -1,0 +1,231 @@
+// Tests of run_simulation: the dt check, reproducibility, fields that do not perturb the
+// forces, the packing cache and the area fractions the packing reaches.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include "grainlift/dem/contact_law.h"
+#include "grainlift/dem/dem_system.h"
+#include "grainlift/dem/packing.h"
+#include "grainlift/dem/simulation.h"
+
+namespace gd = grainlift::dem;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A small Kumar-like bed: W x H grain diameters, walls top and bottom, periodic in x.
+gd::DemConfig small_case(double w, double h, double phi) {
+  gd::DemConfig c;
+  const double d = c.grain_diameter;
+  c.xmin = -0.5 * w * d;
+  c.xmax = 0.5 * w * d;
+  c.ymin = -0.5 * h * d;
+  c.ymax = 0.5 * h * d;
+  c.wall_bottom = c.wall_top = true;
+  c.area_fraction = phi;
+  c.intruder_diameter = 5 * d;
+  c.intruder_velocity = {1.0, 0.0};
+  c.intruder_omega = 2.0 * 1.0 / (2.5 * d);  // Omega = omega R / V = 2
+  c.travel = 1.0;
+  c.steady_travel = 0.25;
+  c.sample_every = 50;
+  return c;
+}
+
+std::string temp_cache_dir(const std::string& tag) {
+  return (std::filesystem::temp_directory_path() /
+          ("grainlift_dem_test_" + tag + "_" + std::to_string(::getpid())))
+      .string();
+}
+
+void expect_same_samples(const gd::DemOutput& a, const gd::DemOutput& b) {
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  ASSERT_GT(a.samples.size(), 0u);
+  for (std::size_t k = 0; k < a.samples.size(); ++k) {
+    ASSERT_EQ(a.samples[k].fx, b.samples[k].fx) << "sample " << k;
+    ASSERT_EQ(a.samples[k].fy, b.samples[k].fy) << "sample " << k;
+    ASSERT_EQ(a.samples[k].torque, b.samples[k].torque) << "sample " << k;
+    ASSERT_EQ(a.samples[k].contacts, b.samples[k].contacts) << "sample " << k;
+  }
+  ASSERT_EQ(a.contacts.size(), b.contacts.size());
+}
+
+}  // namespace
+
+// Physics: dt must not exceed max_dt_fraction (0.1) of the Hertz binary collision time of two
+// mean grains at the intruder's fastest surface speed (Kumar grains, 3 m/s: t_c ~ 1.4e-4 s).
+// dt = 5e-5 s is refused with a ConfigError that names both numbers; Kumar's 2e-6 s passes.
+TEST(Simulation, DtCheckRefusesTooLargeDt) {
+  auto c = small_case(30, 20, 0.8);
+  c.dt = 5e-5;
+  try {
+    gd::validate_config(c);
+    FAIL() << "dt = 5e-5 s was accepted";
+  } catch (const gd::ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("dt = 5e-05 s exceeds 0.1 of the binary collision time"), std::string::npos) << m;
+    EXPECT_NE(m.find("use dt <="), std::string::npos) << m;
+  }
+  EXPECT_THROW(gd::run_simulation(c), gd::ConfigError);
+  c.dt = 2e-6;
+  const double tc = gd::validate_config(c);
+  EXPECT_GT(tc, 1e-4);
+  EXPECT_LT(tc, 2e-4);
+}
+
+// Physics: the collision time used by the dt check, t_c = 2.94328 delta_max / v, is the
+// duration of an undamped head-on Hertz collision: the DEM contact of two grains at 1 m/s
+// lasts t_c within 1%.
+TEST(Simulation, CollisionTimeFormulaMatchesAnElasticCollision) {
+  gd::ContactParams p;
+  p.gamma_n = p.gamma_t = 0;
+  const auto law = gd::LawCoefficients::from(p);
+  const double r = 0.01, m = 20 * kPi * r * r, v = 1.0;
+  const double tc = gd::hertz_collision_time(law, r, r, m, m, v);
+  gd::SystemOptions o;
+  o.box = {-0.5, 0.5, -0.5, 0.5, true, true};
+  o.contact = p;
+  o.dt = 1e-7;
+  gd::DemSystem s(o);
+  gd::Disk a, b;
+  a.r = b.r = r;
+  a.mass = b.mass = m;
+  a.x = -r;
+  b.x = r;
+  a.vx = 0.5 * v;
+  b.vx = -0.5 * v;
+  s.set_bodies({a, b}, {});
+  int in_contact = 0;
+  for (int n = 0; n < 100000; ++n) {
+    s.step();
+    if (s.particles().x[1] - s.particles().x[0] < 2 * r) ++in_contact;
+    else if (in_contact > 0) break;
+  }
+  EXPECT_NEAR(in_contact * o.dt, tc, 0.01 * tc);
+}
+
+// Physics: the run is a deterministic function of the configuration and seed: the same seed
+// gives bit-identical forces, with 1 or 2 threads (per-pair forces are summed per particle in a
+// fixed order); another seed gives another bed. Tolerance: exact equality. The bed (60 d x 40 d,
+// ~2300 grains) is large enough for the step to really run on 2 threads.
+TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
+  auto c = small_case(60, 40, 0.8);
+  c.travel = 0.4;
+  c.steady_travel = 0.1;
+  c.seed = 11;
+  c.packing_cache_dir = temp_cache_dir("seed");
+  const auto a = gd::run_simulation(c);
+  const auto b = gd::run_simulation(c);
+  expect_same_samples(a, b);
+  c.threads = 2;
+  {
+    // the bed really runs on two threads
+    gd::SystemOptions o;
+    o.threads = 2;
+    gd::DemSystem s(o);
+    std::vector<gd::Disk> g(a.grains);
+    for (auto& disk : g) {
+      disk.r = 0.01;
+      disk.mass = 1;
+    }
+    s.set_bodies(g, {});
+    EXPECT_EQ(s.threads_used(), 2);
+  }
+  const auto t2 = gd::run_simulation(c);
+  expect_same_samples(a, t2);
+  c.threads = 1;
+  c.seed = 12;
+  const auto other = gd::run_simulation(c);
+  ASSERT_EQ(other.samples.size(), a.samples.size());
+  bool differs = false;
+  for (std::size_t k = 0; k < a.samples.size(); ++k) differs |= other.samples[k].fx != a.samples[k].fx;
+  EXPECT_TRUE(differs);
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
+// Physics: coarse graining only reads the state, so turning the fields on leaves the forces
+// bit-identical (exact equality). The fields themselves are sane: no grain inside the intruder
+// (area fraction 0 within 0.9 R), the far field near the bed's Phi (within 0.15), and the
+// contact stress compressive (negative trace) in front of the intruder.
+TEST(Simulation, FieldsOnOrOffLeaveForcesBitIdentical) {
+  auto c = small_case(30, 20, 0.8);
+  c.seed = 5;
+  const auto off = gd::run_simulation(c);
+  const double d = c.grain_diameter;
+  c.fields.enabled = true;
+  c.fields.spacing = 0.25 * d;
+  c.fields.x0 = -6 * d;
+  c.fields.y0 = -6 * d;
+  c.fields.nx = 48;
+  c.fields.ny = 48;
+  c.field_every = 100;
+  const auto on = gd::run_simulation(c);
+  expect_same_samples(off, on);
+  const auto& f = on.fields;
+  ASSERT_EQ(f.nx, 48);
+  ASSERT_GT(f.snapshots, 0);
+  auto bin = [&](double x, double y) {
+    const int i = static_cast<int>(std::floor((x - c.fields.x0) / c.fields.spacing));
+    const int j = static_cast<int>(std::floor((y - c.fields.y0) / c.fields.spacing));
+    return static_cast<std::size_t>(j) * f.nx + i;
+  };
+  EXPECT_EQ(f.area_fraction[bin(0.1 * d, 0.1 * d)], 0.0);
+  double far = 0;
+  int n = 0;
+  for (double y = -5.5 * d; y <= 5.5 * d; y += 0.25 * d) {
+    far += f.area_fraction[bin(-5.8 * d, y)];
+    ++n;
+  }
+  EXPECT_NEAR(far / n, 0.8, 0.15);
+  double trace = 0;
+  for (double y = -2 * d; y <= 2 * d; y += 0.25 * d) {
+    for (double x = 2.6 * d; x <= 3.6 * d; x += 0.25 * d) {
+      trace += f.sxx[bin(x, y)] + f.syy[bin(x, y)];
+    }
+  }
+  EXPECT_LT(trace, 0.0);
+}
+
+// Physics: a prepared bed is saved under packing_cache_dir and reused; the run from the cache
+// gives bit-identical forces (the run always starts from rest with empty contact history).
+TEST(Simulation, PackingCacheIsReusedWithIdenticalForces) {
+  auto c = small_case(30, 20, 0.6);
+  c.packing_cache_dir = temp_cache_dir("cache");
+  std::filesystem::remove_all(c.packing_cache_dir);
+  const auto first = gd::run_simulation(c);
+  EXPECT_FALSE(first.packing_from_cache);
+  EXPECT_TRUE(std::filesystem::exists(gd::packing_cache_path(c)));
+  const auto second = gd::run_simulation(c);
+  EXPECT_TRUE(second.packing_from_cache);
+  expect_same_samples(first, second);
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
+// Physics: the packing reaches the requested area fraction (grain area over the box minus the
+// wall strips and the intruder) within 0.01 for a dilute (insertion), intermediate (0.78 then
+// removal) and dense (radius growth) bed, and leaves it relaxed: no overlap above 1% of d.
+TEST(Simulation, PackingReachesTheAreaFraction) {
+  for (double phi : {0.35, 0.6, 0.82}) {
+    auto c = small_case(30, 20, phi);
+    const auto bed = gd::prepare_packing(c);
+    EXPECT_NEAR(bed.area_fraction, phi, 0.01) << "Phi = " << phi;
+    double worst = 0;
+    for (std::size_t i = 0; i < bed.r.size(); ++i) {
+      for (std::size_t j = i + 1; j < bed.r.size(); ++j) {
+        double dx = bed.x[i] - bed.x[j];
+        const double lx = c.xmax - c.xmin;
+        dx -= lx * std::round(dx / lx);
+        const double dy = bed.y[i] - bed.y[j];
+        const double ov = bed.r[i] + bed.r[j] - std::hypot(dx, dy);
+        worst = std::max(worst, ov / c.grain_diameter);
+      }
+    }
+    EXPECT_LT(worst, 0.01) << "Phi = " << phi;
+  }
+}
