@@ -296,20 +296,34 @@ void FlowProblem::run() {
     return;
   }
   const int max_it = nonlinear ? nl.max_iterations : 1;
+  // Picard (eta frozen) for at least picard_iterations steps and until |R| < 0.5 |R0| (at most
+  // 4 picard_iterations), then Newton with a backtracking line search. A Newton step whose line
+  // search fails (no sufficient decrease down to a step of 1/1024) is replaced by a Picard step.
+  bool newton_phase = !nonlinear;
   for (int it = 0; it < max_it; ++it) {
-    const bool newton = !nonlinear || it >= nl.picard_iterations;
-    assemble_system(solution_, true, newton, res);
-    solve(res, upd);
-    // backtracking line search on ||R||
+    if (!newton_phase && it >= nl.picard_iterations &&
+        (r < 0.5 * r0 || it >= 4 * std::max(nl.picard_iterations, 1)))
+      newton_phase = true;
+    bool newton = newton_phase;
     double alpha = 1.0, rt = 0;
-    for (int ls = 0;; ++ls) {
-      trial = solution_;
-      trial.add(alpha, upd);
-      rt = assemble_system(trial, false, false, trial_res);
-      // Picard steps are fixed-point steps, not descent directions of |R|: taken in full.
-      if (std::isfinite(rt) && (rt < (1 - 1e-4 * alpha) * r || !nonlinear || !newton)) break;
-      if (ls == 10) break;  // accept the shortest step and carry on
-      alpha *= 0.5;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      assemble_system(solution_, true, newton, res);
+      solve(res, upd);
+      alpha = 1.0;
+      bool accepted = false;
+      for (int ls = 0; ls <= 10; ++ls) {
+        trial = solution_;
+        trial.add(alpha, upd);
+        rt = assemble_system(trial, false, false, trial_res);
+        // Picard steps are fixed-point steps, not descent directions of |R|: taken in full.
+        if (std::isfinite(rt) && (rt < (1 - 1e-4 * alpha) * r || !nonlinear || !newton)) {
+          accepted = true;
+          break;
+        }
+        alpha *= 0.5;
+      }
+      if (accepted || !newton) break;
+      newton = false;  // fall back to a full Picard step
     }
     solution_ = trial;
     r = rt;

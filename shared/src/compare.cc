@@ -84,7 +84,7 @@ Comparison compare_results(const RunResult& a, const RunResult& b) {
   return c;
 }
 
-std::string comparison_json(const Comparison& c, int indent) {
+JsonObject comparison_object(const Comparison& c) {
   JsonObject o;
   o.add("solver_a", c.solver_a);
   o.add("solver_b", c.solver_b);
@@ -107,7 +107,11 @@ std::string comparison_json(const Comparison& c, int indent) {
     o.add("sigma_t_l2", c.sigma_t_l2);
     o.add("sigma_t_max", c.sigma_t_max);
   }
-  return o.str(indent);
+  return o;
+}
+
+std::string comparison_json(const Comparison& c, int indent) {
+  return comparison_object(c).str(indent);
 }
 
 std::string comparison_text(const Comparison& c) {

@@ -35,6 +35,25 @@ void check(herr_t status, const std::string& what) {
   if (status < 0) throw RunError("HDF5: " + what + " failed");
 }
 
+/// Every /geometry attribute and the Geometry member it holds (one list for writer and reader).
+const std::pair<const char*, double Geometry::*> geometry_fields[] = {
+    {"intruder_diameter", &Geometry::intruder_diameter},
+    {"intruder_x", &Geometry::intruder_x},
+    {"intruder_y", &Geometry::intruder_y},
+    {"grain_diameter", &Geometry::grain_diameter},
+    {"domain_xmin", &Geometry::domain_xmin},
+    {"domain_xmax", &Geometry::domain_xmax},
+    {"domain_ymin", &Geometry::domain_ymin},
+    {"domain_ymax", &Geometry::domain_ymax},
+    {"velocity_x", &Geometry::velocity_x},
+    {"velocity_y", &Geometry::velocity_y},
+    {"omega", &Geometry::omega},
+    {"gravity_x", &Geometry::gravity_x},
+    {"gravity_y", &Geometry::gravity_y},
+    {"bulk_density", &Geometry::bulk_density},
+    {"pressure_scale", &Geometry::pressure_scale},
+};
+
 // ---- writing ---------------------------------------------------------------------------------
 Handle make_group(hid_t parent, const char* name) {
   Handle g(H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
@@ -123,23 +142,8 @@ void write_body(hid_t file, const RunResult& r) {
     attr_string(g, "path", r.meta.case_path);
   }
   {
-    const Geometry& q = r.geometry;
     Handle g = make_group(file, "geometry");
-    attr_number(g, "intruder_diameter", q.intruder_diameter);
-    attr_number(g, "intruder_x", q.intruder_x);
-    attr_number(g, "intruder_y", q.intruder_y);
-    attr_number(g, "grain_diameter", q.grain_diameter);
-    attr_number(g, "domain_xmin", q.domain_xmin);
-    attr_number(g, "domain_xmax", q.domain_xmax);
-    attr_number(g, "domain_ymin", q.domain_ymin);
-    attr_number(g, "domain_ymax", q.domain_ymax);
-    attr_number(g, "velocity_x", q.velocity_x);
-    attr_number(g, "velocity_y", q.velocity_y);
-    attr_number(g, "omega", q.omega);
-    attr_number(g, "gravity_x", q.gravity_x);
-    attr_number(g, "gravity_y", q.gravity_y);
-    attr_number(g, "bulk_density", q.bulk_density);
-    attr_number(g, "pressure_scale", q.pressure_scale);
+    for (const auto& [name, member] : geometry_fields) attr_number(g, name, r.geometry.*member);
   }
   if (r.forces) {
     const ForceSeries& f = *r.forces;
@@ -291,22 +295,7 @@ RunResult read_body(hid_t file) {
   {
     Handle g(H5Gopen2(file, "geometry", H5P_DEFAULT), H5Gclose);
     if (!g.valid()) throw InputError("missing group /geometry");
-    Geometry& q = r.geometry;
-    q.intruder_diameter = read_attr_double(g, "intruder_diameter");
-    q.intruder_x = read_attr_double(g, "intruder_x");
-    q.intruder_y = read_attr_double(g, "intruder_y");
-    q.grain_diameter = read_attr_double(g, "grain_diameter");
-    q.domain_xmin = read_attr_double(g, "domain_xmin");
-    q.domain_xmax = read_attr_double(g, "domain_xmax");
-    q.domain_ymin = read_attr_double(g, "domain_ymin");
-    q.domain_ymax = read_attr_double(g, "domain_ymax");
-    q.velocity_x = read_attr_double(g, "velocity_x");
-    q.velocity_y = read_attr_double(g, "velocity_y");
-    q.omega = read_attr_double(g, "omega");
-    q.gravity_x = read_attr_double(g, "gravity_x");
-    q.gravity_y = read_attr_double(g, "gravity_y");
-    q.bulk_density = read_attr_double(g, "bulk_density");
-    q.pressure_scale = read_attr_double(g, "pressure_scale");
+    for (const auto& [name, member] : geometry_fields) r.geometry.*member = read_attr_double(g, name);
   }
   if (exists(file, "forces")) {
     Handle g(H5Gopen2(file, "forces", H5P_DEFAULT), H5Gclose);

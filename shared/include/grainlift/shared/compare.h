@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "grainlift/shared/json_writer.h"
 #include "grainlift/shared/run_result.h"
 
 namespace grainlift {
@@ -27,6 +28,8 @@ struct Comparison {
 Comparison compare_results(const RunResult& a, const RunResult& b);
 
 /// The comparison as a JSON object (numbers; null where a quantity is absent).
+JsonObject comparison_object(const Comparison& c);
+/// comparison_object serialised; @p indent > 0 pretty-prints.
 std::string comparison_json(const Comparison& c, int indent = 0);
 /// The comparison as a short human-readable table.
 std::string comparison_text(const Comparison& c);
