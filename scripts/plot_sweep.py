@@ -5,8 +5,9 @@
   plot_sweep.py drag-speed OUT.png CSV[:LABEL] ...   drag against V0, log-log, fitted slope
   plot_sweep.py ld-mu     OUT.png  CSV[:LABEL] ...   L/D against mu (saturated spin), with
                                                      L/D = mu and Kumar eq. (15)
-Error bars are the block-average standard errors (propagated for ratios). Prints the table
-it plots, so the numbers can go into docs/."""
+Error bars are the block-average standard errors (propagated for ratios). Tables given the
+same LABEL (independent seeds) are pooled. Prints the table it plots, so the numbers can go
+into docs/."""
 import csv
 import math
 import sys
@@ -29,6 +30,29 @@ def read(spec):
     return rows, label or path
 
 
+def pooled(specs):
+    """Tables that share a label (independent seeds) are pooled value by value: means of
+    drag, lift, torque; standard error sqrt(sum se^2) / n."""
+    groups = {}
+    for spec in specs:
+        rows, label = read(spec)
+        groups.setdefault(label, []).append(rows)
+    for label, tables in groups.items():
+        if len(tables) == 1:
+            yield tables[0], label
+            continue
+        out = []
+        for i, r in enumerate(tables[0]):
+            same = [t[i] for t in tables if i < len(t) and t[i]["value"] == r["value"]]
+            p = dict(r)
+            for key in ("drag", "lift", "torque", "contacts", "wall_seconds"):
+                p[key] = str(np.mean([num(s, key) for s in same]))
+            for key in ("drag_stderr", "lift_stderr", "torque_stderr"):
+                p[key] = str(math.sqrt(sum(num(s, key) ** 2 for s in same)) / len(same))
+            out.append(p)
+        yield out, f"{label} ({len(tables)} seeds)"
+
+
 def num(r, key):
     v = r.get(key, "")
     return float(v) if v not in ("", None) else float("nan")
@@ -48,8 +72,7 @@ def main(argv):
         return 2
     mode, out, specs = argv[1], argv[2], argv[3:]
     fig, ax = plt.subplots(figsize=(6, 4.5))
-    for spec in specs:
-        rows, label = read(spec)
+    for rows, label in pooled(specs):
         if mode == "ld-omega":
             x = np.array([num(r, "spin_ratio") for r in rows])
             y = np.array([num(r, "lift") / num(r, "drag") for r in rows])
@@ -86,6 +109,10 @@ def main(argv):
             return 2
     if mode == "ld-omega":
         ax.axhline(0, color="k", lw=0.5)
+        # Kumar eq. (15) at mu = 0.5: kappa 0.9 (Phi 0.818) and 0.95 (Phi 0.352), as -L/D
+        for kappa, phi, c in ((0.9, 0.818, "C0"), (0.95, 0.352, "C1")):
+            ax.axhline(-(kappa * 0.5 - (1 - kappa) / 0.5), color=c, ls=":", lw=1,
+                       label=f"Kumar eq. 15, Phi {phi}: L/D = -{kappa * 0.5 - (1 - kappa) / 0.5:.3f}")
         ax.set_xlabel("spin ratio Omega = omega R / V0")
         ax.set_ylabel("L / D  (negative: along -omega x V)")
     elif mode == "drag-speed":
