@@ -47,6 +47,7 @@ void run_bed(benchmark::State& state, double phi) {
     grains[n].mass = c.density * kPi * b.r[n] * b.r[n];
   }
   s.set_bodies(grains, gd::make_wall_disks(c));
+  s.set_store_pair_forces(false);  // as run_simulation with fields off
   s.set_intruder(0, 0, 0.5 * c.intruder_diameter, c.intruder_velocity[0], 0, c.intruder_omega, 0);
   for (int k = 0; k < 500; ++k) s.step();  // warm-up: lists built, intruder in contact
   const int builds0 = s.list_builds();

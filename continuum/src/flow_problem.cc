@@ -21,6 +21,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -108,6 +109,7 @@ void FlowProblem::setup_system() {
   system_matrix_.reinit(sparsity_);
   solution_.reinit(dof_handler_.n_dofs());
   cache_.reset();
+  traction_id_ = -1;
 }
 
 void FlowProblem::interpolate_initial_guess() {
@@ -173,7 +175,7 @@ double FlowProblem::assemble_impl(const Vector<double>& state, SparseMatrix<doub
       const double JxW = fev.JxW(q);
       const double eta = out.viscosity[q];
       const double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
-      const double eta_p = newton ? out.deta_dpressure[q] : 0.0;
+      const double eta_p = newton && !partial_newton_ ? out.deta_dpressure[q] : 0.0;
       const Vec2 f = setup_.body_force ? setup_.body_force(fev.quadrature_point(q)) : Vec2();
       const SymmetricTensor<2, dim>& D = sym[q];
       const double div_u = trace(D);
@@ -275,12 +277,20 @@ void FlowProblem::solve(const Vector<double>& residual, Vector<double>& update) 
 void FlowProblem::run() {
   setup_system();
   interpolate_initial_guess();
+  report_ = NonlinearReport{};
+  solve_nonlinear(setup_.nonlinear);
+}
+
+void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
   const auto n = dof_handler_.n_dofs();
   Vector<double> res(n), upd(n), trial(n), trial_res(n);
-  const NonlinearSettings& nl = setup_.nonlinear;
   double r = assemble_system(solution_, false, false, res);
-  report_ = NonlinearReport{};
-  report_.initial_residual = r;
+  report_.converged = false;
+  report_.message.clear();
+  traction_id_ = -1;
+  // the tolerance is relative to the residual of the initial guess of the first call
+  if (report_.initial_residual <= 0) report_.initial_residual = r;
+  const double r_ref = report_.initial_residual;
   const double r0 = r;
   const bool nonlinear =
       setup_.viscosity->is_nonlinear() || setup_.inertia_density > 0 || setup_.bc.friction;
@@ -290,7 +300,7 @@ void FlowProblem::run() {
        << r0;
     log(os.str());
   }
-  if (r0 <= nl.absolute_tolerance) {
+  if (r0 <= nl.absolute_tolerance || r0 <= nl.relative_tolerance * r_ref) {
     report_.converged = true;
     report_.final_residual = r0;
     return;
@@ -299,15 +309,29 @@ void FlowProblem::run() {
   // Picard (eta frozen) for at least picard_iterations steps and until |R| < 0.5 |R0| (at most
   // 4 picard_iterations), then Newton with a backtracking line search. A Newton step whose line
   // search fails (no sufficient decrease down to a step of 1/1024) is replaced by a Picard step.
-  bool newton_phase = !nonlinear;
+  bool newton_phase = !nonlinear || nl.picard_iterations == 0;
   for (int it = 0; it < max_it; ++it) {
     if (!newton_phase && it >= nl.picard_iterations &&
         (r < 0.5 * r0 || it >= 4 * std::max(nl.picard_iterations, 1)))
       newton_phase = true;
     bool newton = newton_phase;
+    partial_newton_ = std::getenv("PARTIAL") && r > std::atof(std::getenv("PARTIAL")) * r_ref;
     double alpha = 1.0, rt = 0;
     for (int attempt = 0; attempt < 2; ++attempt) {
       assemble_system(solution_, true, newton, res);
+      const bool scaled = std::getenv("SCALED") != nullptr;
+      Vector<double> w(n);
+      for (unsigned int i = 0; i < n; ++i) {
+        const double d = std::abs(system_matrix_.diag_element(i));
+        w(i) = d > 0 ? 1.0 / d : 1.0;
+      }
+      const auto merit = [&](const Vector<double>& v) {
+        if (!scaled) return v.l2_norm();
+        double sum = 0;
+        for (unsigned int i = 0; i < n; ++i) sum += w(i) * v(i) * v(i);
+        return std::sqrt(sum);
+      };
+      const double m0 = merit(res);
       solve(res, upd);
       alpha = 1.0;
       bool accepted = false;
@@ -316,7 +340,7 @@ void FlowProblem::run() {
         trial.add(alpha, upd);
         rt = assemble_system(trial, false, false, trial_res);
         // Picard steps are fixed-point steps, not descent directions of |R|: taken in full.
-        if (std::isfinite(rt) && (rt < (1 - 1e-4 * alpha) * r || !nonlinear || !newton)) {
+        if (std::isfinite(rt) && (merit(trial_res) < (1 - 1e-4 * alpha) * m0 || !nonlinear || !newton)) {
           accepted = true;
           break;
         }
@@ -331,14 +355,14 @@ void FlowProblem::run() {
     {
       std::ostringstream os;
       os << "continuum: " << (newton ? "newton" : "picard") << " step " << it + 1
-         << "  |R|/|R0| = " << r / r0 << "  step length " << alpha;
+         << "  |R|/|R0| = " << r / r_ref << "  step length " << alpha;
       log(os.str());
     }
     if (!std::isfinite(r)) {
       report_.message = "nonlinear residual is not finite";
       break;
     }
-    if (r <= nl.relative_tolerance * r0 || r <= nl.absolute_tolerance) {
+    if (r <= nl.relative_tolerance * r_ref || r <= nl.absolute_tolerance) {
       report_.converged = true;
       break;
     }
@@ -348,7 +372,7 @@ void FlowProblem::run() {
   if (!report_.converged && report_.message.empty()) {
     std::ostringstream os;
     os << "no convergence after " << report_.picard_steps + report_.newton_steps
-       << " nonlinear iterations: |R|/|R0| = " << r / r0;
+       << " nonlinear iterations: |R|/|R0| = " << r / r_ref;
     report_.message = os.str();
   }
 }
@@ -474,6 +498,88 @@ PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& cent
   st.inertial_number = I_sum / found;
   st.stress = stress_sum / found;
   return st;
+}
+
+Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centre,
+                                      double angle) const {
+  if (traction_id_ != static_cast<int>(id) || traction_.size() != dof_handler_.n_dofs()) {
+    Vector<double> r;
+    assemble_impl(solution_, nullptr, false, r, true);
+    const IndexSet bd =
+        DoFTools::extract_boundary_dofs(dof_handler_, fe_.component_mask(kVelocity), {id});
+    std::map<types::global_dof_index, unsigned int> local;
+    for (const auto i : bd) local.emplace(i, static_cast<unsigned int>(local.size()));
+    const unsigned int nb = static_cast<unsigned int>(local.size());
+    // boundary mass matrix (vector-valued, so the two components decouple)
+    const QGauss<dim - 1> fquad(4);
+    FEFaceValues<dim> ffv(mapping_, fe_, fquad, update_values | update_JxW_values);
+    const unsigned int dpc = fe_.n_dofs_per_cell();
+    std::vector<types::global_dof_index> idx(dpc);
+    DynamicSparsityPattern dsp(nb);
+    for (const auto& cell : dof_handler_.active_cell_iterators())
+      for (const auto& face : cell->face_iterators()) {
+        if (!face->at_boundary() || face->boundary_id() != id) continue;
+        cell->get_dof_indices(idx);
+        for (unsigned int i = 0; i < dpc; ++i)
+          for (unsigned int j = 0; j < dpc; ++j)
+            if (local.count(idx[i]) && local.count(idx[j])) dsp.add(local[idx[i]], local[idx[j]]);
+      }
+    SparsityPattern sp;
+    sp.copy_from(dsp);
+    SparseMatrix<double> mass(sp);
+    for (const auto& cell : dof_handler_.active_cell_iterators())
+      for (const auto& face : cell->face_iterators()) {
+        if (!face->at_boundary() || face->boundary_id() != id) continue;
+        ffv.reinit(cell, face);
+        cell->get_dof_indices(idx);
+        for (unsigned int q = 0; q < fquad.size(); ++q)
+          for (unsigned int i = 0; i < dpc; ++i) {
+            const auto li = local.find(idx[i]);
+            if (li == local.end()) continue;
+            for (unsigned int j = 0; j < dpc; ++j) {
+              const auto lj = local.find(idx[j]);
+              if (lj == local.end()) continue;
+              mass.add(li->second, lj->second,
+                       ffv[kVelocity].value(i, q) * ffv[kVelocity].value(j, q) * ffv.JxW(q));
+            }
+          }
+      }
+    Vector<double> rhs(nb);
+    for (const auto& [g, l] : local) rhs(l) = -r(g);  // force of the medium on the body
+    SparseDirectUMFPACK direct;
+    direct.initialize(mass);
+    direct.solve(rhs);
+    traction_.reinit(dof_handler_.n_dofs());
+    for (const auto& [g, l] : local) traction_(g) = rhs(l);
+    traction_id_ = static_cast<int>(id);
+  }
+  // evaluate t_h on the face(s) at the requested angle
+  Vec2 sum;
+  int found = 0;
+  std::vector<Vec2> t(1);
+  for (const auto& cell : dof_handler_.active_cell_iterators())
+    for (const auto& face : cell->face_iterators()) {
+      if (!face->at_boundary() || face->boundary_id() != id) continue;
+      const Vec2 v0 = face->vertex(0) - centre, v1 = face->vertex(1) - centre;
+      const double a0 = std::atan2(v0[1], v0[0]);
+      const double da = wrap_angle(std::atan2(v1[1], v1[0]) - a0);
+      const double tp = wrap_angle(angle - a0) / da;
+      if (!(tp >= -1e-10 && tp <= 1 + 1e-10)) continue;
+      const double tc = std::clamp(tp, 0.0, 1.0);
+      for (const double tt : {tc, 1.0 - tc}) {
+        const Quadrature<dim - 1> q{Point<dim - 1>(tt)};
+        FEFaceValues<dim> ffv(mapping_, fe_, q, update_values | update_quadrature_points);
+        ffv.reinit(cell, face);
+        const Vec2 x = ffv.quadrature_point(0) - centre;
+        if (std::abs(wrap_angle(std::atan2(x[1], x[0]) - angle)) > 0.25 * std::abs(da)) continue;
+        ffv[kVelocity].get_function_values(traction_, t);
+        sum += t[0];
+        ++found;
+        break;
+      }
+    }
+  if (found == 0) throw std::runtime_error("consistent_traction: no boundary face at the requested angle");
+  return sum / found;
 }
 
 bool FlowProblem::point_state(const Point2& x, PointState& out) const {

@@ -93,8 +93,14 @@ class FlowProblem {
  public:
   FlowProblem(dealii::Triangulation<dim>& tria, const ProblemSetup& setup);
 
-  /// setup_system(), initial guess, then the nonlinear iterations.
+  /// setup_system(), initial guess, then the nonlinear iterations (solve_nonlinear()).
   void run();
+  /// Picard then Newton iterations from the current solution with @p settings; the counts in
+  /// report() accumulate over calls (continuation stages).
+  void solve_nonlinear(const NonlinearSettings& settings);
+  /// Change the viscosity model or the inertia between continuation stages.
+  void set_viscosity(const ViscosityModel* viscosity) { setup_.viscosity = viscosity; }
+  void set_inertia_density(double rho) { setup_.inertia_density = rho; }
 
   void setup_system();
   /// Assemble the residual R(state) (constrained rows zero) and, if @p matrix, the Jacobian
@@ -114,6 +120,11 @@ class FlowProblem {
   /// State at a boundary point of @p id closest in angle to @p angle about @p centre.
   PointState boundary_state(dealii::types::boundary_id id, const Point2& centre, double angle,
                             Vec2& normal_out_of_medium, Point2& where) const;
+  /// Consistent traction of the medium on the boundary @p id: the nodal reaction forces turned
+  /// into a traction field t_h in the trace of the velocity space, M_Gamma t_h = -R (M_Gamma the
+  /// boundary mass matrix). Converges like the reaction, faster than sigma(grad u_h).n.
+  /// Returns t_h at the boundary point closest in angle to @p angle about @p centre.
+  Vec2 consistent_traction(dealii::types::boundary_id id, const Point2& centre, double angle) const;
   /// State at an arbitrary point; false when the point is not in the mesh.
   bool point_state(const Point2& x, PointState& out) const;
   /// L2 velocity, H1-seminorm velocity and L2 pressure errors against exact fields
@@ -152,6 +163,9 @@ class FlowProblem {
   dealii::Vector<double> solution_;
   NonlinearReport report_;
   mutable std::unique_ptr<dealii::GridTools::Cache<dim>> cache_;
+  mutable dealii::Vector<double> traction_;  ///< nodal consistent traction (empty until needed)
+  mutable int traction_id_ = -1;
+  bool partial_newton_ = false;
 };
 
 }  // namespace grainlift::continuum::internal

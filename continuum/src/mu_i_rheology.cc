@@ -71,18 +71,18 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
   const double d = p_.grain_diameter, rho_s = p_.solid_density, delta2 = p_.delta * p_.delta;
   for (std::size_t q = 0; q < in.size(); ++q) {
     const double s = std::max(in.strain_rate_sq[q], 0.0);  // |D|^2
-    const double g = std::max(std::sqrt(s), kStrainFloor);  // |D|
-    const double pe = std::max(in.pressure[q], 0.0);         // pressure clamped in the rheology only
-    // I = 2 |D| d / sqrt(p / rho_s); dI/ds = I / (2 s); dI/dp = -I / (2 p)
-    const double I = pe > 0 ? 2 * g * d * std::sqrt(rho_s / pe)
+    // gd = sqrt(|D|^2 + delta^2) (Chauchat-Medale) or |D| floored (Barker-Gray) is used both
+    // in I and in the denominator of eta.
+    const double gd = cm ? std::sqrt(s + delta2) : std::max(std::sqrt(s), kStrainFloor);
+    const double pe = std::max(in.pressure[q], 0.0);  // pressure clamped in the rheology only
+    // I = 2 gd d / sqrt(p / rho_s); dI/ds = I / (2 gd^2); dI/dp = -I / (2 p)
+    const double I = pe > 0 ? 2 * gd * d * std::sqrt(rho_s / pe)
                             : std::numeric_limits<double>::infinity();
     const double mu = friction(I), dmu = dfriction_dI(I);
-    // denominator 2 gd with gd = sqrt(|D|^2 + delta^2) (Chauchat-Medale) or |D| (Barker-Gray)
-    const double gd = cm ? std::sqrt(s + delta2) : g;
     double eta = mu * pe / (2 * gd);
     double deta_ds = 0, deta_dp = 0;
     if (pe > 0) {
-      const double dI_ds = d * std::sqrt(rho_s / pe) / g;  // = I / (2 s)
+      const double dI_ds = d * std::sqrt(rho_s / pe) / gd;  // = I / (2 gd^2)
       deta_ds = pe / (2 * gd) * dmu * dI_ds - mu * pe / (4 * gd * gd * gd);
       deta_dp = (mu - 0.5 * I * dmu) / (2 * gd);
     }

@@ -60,6 +60,19 @@ CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double
     return g;
   };
   r.velocity_l2_error = problem.errors(u, grad, [](const Point2&) { return 0.0; }, true)[0];
+  // wall shear stress of the fluid on the cylinder, t.e_theta = sigma_r_theta = -2 eta B / R1^2
+  const double tau = -2 * eta * B / (R1 * R1);
+  for (int k = 0; k < 16; ++k) {
+    const double angle = 2 * M_PI * (k + 0.3) / 16;
+    const Vec2 e_theta({-std::sin(angle), std::cos(angle)});
+    const Vec2 tc = problem.consistent_traction(0, Point2(), angle);
+    Vec2 n_medium;
+    Point2 where;
+    const auto st = problem.boundary_state(0, Point2(), angle, n_medium, where);
+    const Vec2 tg = st.stress * Vec2(-n_medium);
+    r.shear_error_consistent = std::max(r.shear_error_consistent, std::abs(tc * e_theta - tau) / std::abs(tau));
+    r.shear_error_gradient = std::max(r.shear_error_gradient, std::abs(tg * e_theta - tau) / std::abs(tau));
+  }
   r.cells = static_cast<int>(tria.n_active_cells());
   r.dofs = static_cast<int>(problem.dof_handler().n_dofs());
   return r;

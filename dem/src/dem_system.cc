@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <omp.h>
+
 #include "grainlift/dem/errors.h"
 
 namespace grainlift::dem {
@@ -179,14 +181,18 @@ void DemSystem::build_lists() {
       ic_.sy[b] = ic_old_.sy[a];
     }
   }
+  // touching-pair scratch of the force loop: sized here so that the step does not allocate
+  touch_.resize(std::max<std::size_t>(touch_.size(), static_cast<std::size_t>(team_)));
+  for (auto& v : touch_) v.reserve(nl_.pairs());
   growth_since_build_ = 0;
   ++builds_;
 }
 
 void DemSystem::compute_forces(double spring_dt) {
   const double h = 0.5 * spring_dt;  // predicted v(t+dt) = v(t+dt/2) + h a(t)
-  const PeriodicBox& box = opt_.box;
-  const LawCoefficients& law = law_;
+  // local copies: the compiler can keep them in registers (no aliasing with the arrays)
+  const PeriodicBox box = opt_.box;
+  const LawCoefficients law = law_;
   const double mu = mu_;
   const double* x = p_.x.data();
   const double* y = p_.y.data();
@@ -207,49 +213,95 @@ void DemSystem::compute_forces(double spring_dt) {
   double* pq = nl_.q.data();
   const int ng = n_grains_;
   double max_ov = max_overlap_;
+  // One thread: sum per particle in the pair loop itself (Newton's third law), no gather.
+  // The order of the additions is that of the gather of the threaded path (pairs where the
+  // particle is the partner, by pair index, then its own row), so the results are the same.
+  const bool scatter = team_ == 1;
+  const bool store = !scatter || store_pair_forces_;
+  double* sfx = fx_.data();
+  double* sfy = fy_.data();
+  double* sq = tq_.data();
+  if (scatter) {
+    std::fill(fx_.begin(), fx_.begin() + ng, 0.0);
+    std::fill(fy_.begin(), fy_.begin() + ng, 0.0);
+    std::fill(tq_.begin(), tq_.begin() + ng, 0.0);
+  }
 
-#pragma omp parallel for schedule(static) num_threads(team_) reduction(max : max_ov)
-  for (int i = 0; i < ng; ++i) {
-    const double xi = x[i], yi = y[i], ri = r[i], imi = inv_m[i];
-    const double vhxi = vx[i], vhyi = vy[i], whi = w[i];
-    const double vpxi = vhxi + h * ax[i], vpyi = vhyi + h * ay[i], wpi = whi + h * al[i];
-    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-      const int j = partner[k];
-      double dx = xi - x[j], dy = yi - y[j];
-      box.min_image(dx, dy);
-      const double rs = ri + r[j];
-      const double d2 = dx * dx + dy * dy;
-      if (d2 >= rs * rs) {
-        sx[k] = sy[k] = 0;
-        pfx[k] = pfy[k] = pq[k] = 0;
-        continue;
+  if (touch_.size() < static_cast<std::size_t>(team_)) touch_.resize(team_);
+#pragma omp parallel num_threads(team_) reduction(max : max_ov)
+  {
+    // Rows in contiguous blocks, one per thread (the same blocks as a static schedule).
+    const int t = omp_get_thread_num();
+    const int nth = omp_get_num_threads();
+    const int lo = static_cast<int>(static_cast<std::int64_t>(ng) * t / nth);
+    const int hi = static_cast<int>(static_cast<std::int64_t>(ng) * (t + 1) / nth);
+    std::vector<std::int64_t>& touching = touch_[t];
+    touching.clear();
+    // Pass 1: distance checks only (most listed pairs of a relaxed bed are apart). A pair that
+    // is apart forgets its history; only words that are not zero already are written.
+    for (int i = lo; i < hi; ++i) {
+      const double xi = x[i], yi = y[i], ri = r[i];
+      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+        const int j = partner[k];
+        double dx = xi - x[j], dy = yi - y[j];
+        box.min_image(dx, dy);
+        const double rs = ri + r[j];
+        if (dx * dx + dy * dy < rs * rs) {
+          touching.push_back(k);
+          continue;
+        }
+        if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
+        if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
       }
-      const double dist = std::sqrt(d2);
+    }
+    // Pass 2: the contact law on the touching pairs, in pair order.
+    int i = lo;
+    for (const std::int64_t k : touching) {
+      while (first[i + 1] <= k) ++i;
+      const int j = partner[k];
+      const double ri = r[i], rj = r[j];
+      double dx = x[i] - x[j], dy = y[i] - y[j];
+      box.min_image(dx, dy);
+      const double rs = ri + rj;
+      const double dist = std::sqrt(dx * dx + dy * dy);
+      const double inv_dist = 1.0 / dist;
       ContactKinematics kin;
-      kin.nx = dx / dist;
-      kin.ny = dy / dist;
+      kin.nx = dx * inv_dist;
+      kin.ny = dy * inv_dist;
       kin.delta = rs - dist;
-      kin.r_eff = ri * r[j] / rs;
-      kin.m_eff = 1.0 / (imi + inv_m[j]);
+      kin.r_eff = ri * rj / rs;
+      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
       kin.mu = mu;
       const double tx = -kin.ny, ty = kin.nx;
-      const double rj = r[j];
       // predicted relative velocity of the contact point at t+dt
-      const double wp = wpi * ri + (w[j] + h * al[j]) * rj;
-      const double vrx = vpxi - (vx[j] + h * ax[j]) - wp * tx;
-      const double vry = vpyi - (vy[j] + h * ay[j]) - wp * ty;
+      const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
+      const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
+      const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
       kin.vn = vrx * kin.nx + vry * kin.ny;
       kin.vtx = vrx - kin.vn * kin.nx;
       kin.vty = vry - kin.vn * kin.ny;
       // displacement of the contact point over the step (half-step velocities)
-      const double wh = whi * ri + w[j] * rj;
-      kin.dsx = spring_dt * (vhxi - vx[j] - wh * tx);
-      kin.dsy = spring_dt * (vhyi - vy[j] - wh * ty);
+      const double wh = w[i] * ri + w[j] * rj;
+      kin.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
+      kin.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
       ContactForce f;
       contact_force(law, kin, sx[k], sy[k], f);
-      pfx[k] = f.fx;
-      pfy[k] = f.fy;
-      pq[k] = kin.nx * f.fty - kin.ny * f.ftx;
+      const double qk = kin.nx * f.fty - kin.ny * f.ftx;
+      if (store) {
+        pfx[k] = f.fx;
+        pfy[k] = f.fy;
+        pq[k] = qk;
+      }
+      if (scatter) {
+        sfx[i] += f.fx;
+        sfy[i] += f.fy;
+        sq[i] += qk;
+        if (j < ng) {
+          sfx[j] -= f.fx;
+          sfy[j] -= f.fy;
+          sq[j] += qk;
+        }
+      }
       const double ov = kin.delta / (2.0 * std::min(ri, rj));
       if (ov > max_ov) max_ov = ov;
     }
@@ -327,21 +379,33 @@ void DemSystem::finish_kick(bool first_call) {
   const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
   const int ng = n_grains_;
+  const bool scatter = team_ == 1;
+  const double* sfx = fx_.data();
+  const double* sfy = fy_.data();
+  const double* sq = tq_.data();
   ParticleArrays& p = p_;
   const IntruderContacts& ic = ic_;
 #pragma omp parallel for schedule(static) num_threads(team_)
   for (int i = 0; i < ng; ++i) {
     double fx = 0, fy = 0, qs = 0;
-    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-      fx += pfx[k];
-      fy += pfy[k];
-      qs += pq[k];
-    }
-    for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
-      const std::int64_t k = rpair[s];
-      fx -= pfx[k];
-      fy -= pfy[k];
-      qs += pq[k];
+    if (scatter) {
+      fx = sfx[i];
+      fy = sfy[i];
+      qs = sq[i];
+    } else {
+      // pairs where i is the partner (by pair index), then i's own row: the order of the
+      // one-thread scatter in compute_forces
+      for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
+        const std::int64_t k = rpair[s];
+        fx -= pfx[k];
+        fy -= pfy[k];
+        qs += pq[k];
+      }
+      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+        fx += pfx[k];
+        fy += pfy[k];
+        qs += pq[k];
+      }
     }
     double tq = -p.r[i] * qs;
     const int c = slot[i];
@@ -364,13 +428,38 @@ void DemSystem::finish_kick(bool first_call) {
   }
 }
 
-void DemSystem::step() {
-  if (!primed_) {
-    build_lists();
-    compute_forces(0.0);
-    finish_kick(true);
-    primed_ = true;
+void DemSystem::prepare() {
+  if (primed_) return;
+  build_lists();
+  compute_forces(0.0);
+  finish_kick(true);
+  primed_ = true;
+}
+
+double DemSystem::current_max_overlap_fraction() const {
+  double worst = 0;
+  for (int i = 0; i < n_grains_; ++i) {
+    for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
+      const int j = nl_.partner[k];
+      double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
+      opt_.box.min_image(dx, dy);
+      const double delta = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
+      worst = std::max(worst, delta / (2.0 * std::min(p_.r[i], p_.r[j])));
+    }
   }
+  if (intruder_.present) {
+    for (int g : ic_.grain) {
+      double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
+      opt_.box.min_image(dx, dy);
+      const double delta = p_.r[g] + intruder_.r - std::sqrt(dx * dx + dy * dy);
+      worst = std::max(worst, delta / (2.0 * p_.r[g]));
+    }
+  }
+  return worst;
+}
+
+void DemSystem::step() {
+  prepare();
   const double dt = opt_.dt, h = 0.5 * dt;
   const PeriodicBox& box = opt_.box;
   ParticleArrays& p = p_;

@@ -75,6 +75,10 @@ double validate_config(const DemConfig& c) {
     refuse("periodic box length " + str(c.xmax - c.xmin) + " m is below 3 (d + D) = " +
            str(3 * (d + c.intruder_diameter)) + " m");
   }
+  if (c.periodic_y && c.ymax - c.ymin < 3 * (d + c.intruder_diameter)) {
+    refuse("periodic box height " + str(c.ymax - c.ymin) + " m is below 3 (d + D) = " +
+           str(3 * (d + c.intruder_diameter)) + " m");
+  }
   const LawCoefficients law = LawCoefficients::from(c.contact);
   if (!(c.dt > 0)) refuse("dt = " + str(c.dt) + " s: need > 0");
   const double v = impact_speed(c);
@@ -122,6 +126,16 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter,
                  c.intruder_velocity[0], c.intruder_velocity[1], c.intruder_omega,
                  c.spin_ramp_time);
+  s.set_store_pair_forces(c.fields.enabled);  // only the contact stress reads them
+  s.prepare();
+  const double ov0 = s.current_max_overlap_fraction();
+  if (ov0 > c.max_overlap_fraction) {
+    refuse("the prepared bed already overlaps by " + str(ov0) +
+           " of a grain diameter at rest, above max_overlap_fraction = " +
+           str(c.max_overlap_fraction) + ": the contacts are too soft for the load (gravity (" +
+           str(c.gravity[0]) + ", " + str(c.gravity[1]) + ") m/s^2, density " + str(c.density) +
+           " kg/m^2, grain diameter " + str(d) + " m); stiffen the contact law or lower the load");
+  }
   out.grains = s.grains();
   out.wall_grains = s.frozen();
 
@@ -155,7 +169,8 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
         throw RunFailure("step " + str(k) + " (t = " + str(t) + " s): an overlap reached " +
                          str(ov) + " of a grain diameter, above max_overlap_fraction = " +
                          str(c.max_overlap_fraction) + "; reduce dt (" + str(c.dt) +
-                         " s) or the intruder speed");
+                         " s) or the intruder speed (" + str(speed) +
+                         " m/s), or stiffen the contact law");
       }
       const std::size_t index = out.samples.size();
       out.samples.push_back(smp);

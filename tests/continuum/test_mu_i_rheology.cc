@@ -41,7 +41,9 @@ TEST(MuIRheology, SimpleShearGivesMuOfIP) {
 }
 
 // The pressure is clamped at zero inside the rheology: p <= 0 gives the floor eta_min and no
-// pressure derivative; the cap eta_max applies at vanishing strain rate.
+// pressure derivative. At vanishing strain rate the smooth cap eta_max tanh(eta / eta_max)
+// gives eta_max (to 1e-12) with vanishing derivatives; well below the cap eta is unchanged
+// (relative change (eta/eta_max)^2/3 < 1e-6 for eta = 1e-3 eta_max).
 TEST(MuIRheology, ClampFloorAndCap) {
   RheologyParams prm;
   MuIRheology m(prm);
@@ -49,8 +51,14 @@ TEST(MuIRheology, ClampFloorAndCap) {
   EXPECT_EQ(neg.eta, prm.eta_min);
   EXPECT_EQ(neg.eta_p, 0.0);
   const Eval rigid = eval(m, 0.0, 1000.0);
-  EXPECT_EQ(rigid.eta, prm.eta_max);
-  EXPECT_EQ(rigid.eta_s, 0.0);
+  EXPECT_NEAR(rigid.eta, prm.eta_max, 1e-12 * prm.eta_max);
+  EXPECT_NEAR(rigid.eta_s, 0.0, 1e-12 * prm.eta_max / (prm.delta * prm.delta));
+  // simple shear at 50 1/s, p = 100 Pa: eta = mu p / (2 sqrt(|D|^2 + delta^2)) ~ 0.9 Pa s
+  const double s = 625.0, p = 100.0;
+  const Eval e = eval(m, s, p);
+  const double I = 2 * 25.0 * prm.grain_diameter / std::sqrt(p / prm.solid_density);
+  const double mu = prm.mu_s + (prm.mu_2 - prm.mu_s) / (prm.I0 / I + 1);
+  EXPECT_NEAR(e.eta, mu * p / (2 * std::sqrt(s + prm.delta * prm.delta)), 1e-6 * e.eta);
 }
 
 // d eta / d|D|^2 and d eta / dp against central differences (relative error < 1e-6), for both

@@ -229,3 +229,58 @@ TEST(Simulation, PackingReachesTheAreaFraction) {
     EXPECT_LT(worst, 0.01) << "Phi = " << phi;
   }
 }
+
+// Physics: a run that violates the soft-contact assumption fails loudly. An intruder at
+// 200 m/s (the dt check told to assume 0.5 m/s impacts) presses grains by ~0.2 d, above
+// max_overlap_fraction = 0.1: RunFailure, naming the overlap and the limit.
+TEST(Simulation, ExcessiveOverlapIsARunFailure) {
+  auto c = small_case(30, 20, 0.6);
+  c.intruder_velocity = {200.0, 0.0};
+  c.intruder_omega = 0;
+  c.dt_check_velocity = 0.5;
+  c.travel = 3;
+  c.sample_every = 5;
+  try {
+    gd::run_simulation(c);
+    FAIL() << "the run did not fail";
+  } catch (const gd::RunFailure& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("max_overlap_fraction = 0.1"), std::string::npos) << m;
+  }
+}
+
+// Physics (sign conventions of DemOutput::contacts, Kumar Sec. III): an intruder moving along
+// +x spinning counter-clockwise with Omega = 2 slides against every grain it meets
+// (V_t,P = V (Omega - sin theta) > 0), so the friction on the intruder is clockwise: ft < 0 for
+// (at least 90% of) the slipping contacts, ft ~ -mu fn there (1e-6 relative). Contacts sit on the
+// front (|theta| < pi/2 for at least 80% of them) and are compressive (mean fn > 0). The
+// torque of the grains opposes the spin (mean torque < 0).
+TEST(Simulation, IntruderContactSignConventions) {
+  auto c = small_case(30, 20, 0.3);
+  c.travel = 4;
+  c.steady_travel = 0.5;
+  c.sample_every = 10;
+  const auto out = gd::run_simulation(c);
+  ASSERT_GT(out.contacts.size(), 50u);
+  int front = 0, slipping = 0, clockwise = 0;
+  double fn_sum = 0;
+  for (const auto& k : out.contacts) {
+    if (std::abs(k.theta) < 0.5 * kPi) ++front;
+    fn_sum += k.fn;
+    EXPECT_GT(k.theta, -kPi);
+    EXPECT_LE(k.theta, kPi);
+    if (k.slipping) {
+      ++slipping;
+      if (k.ft < 0) ++clockwise;
+      EXPECT_NEAR(std::abs(k.ft), 0.5 * std::abs(k.fn), 1e-6 * std::abs(k.fn));
+    }
+  }
+  const double n = static_cast<double>(out.contacts.size());
+  EXPECT_GT(front / n, 0.8);
+  EXPECT_GT(fn_sum, 0.0);
+  ASSERT_GT(slipping, 10);
+  EXPECT_GT(clockwise, 0.9 * slipping);
+  double torque = 0;
+  for (std::size_t i = out.steady_start_index; i < out.samples.size(); ++i) torque += out.samples[i].torque;
+  EXPECT_LT(torque, 0.0);
+}

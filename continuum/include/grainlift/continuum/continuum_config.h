@@ -60,6 +60,9 @@ struct ContinuumConfig {
   /// m/s, slip velocity of the regularised Coulomb wall: |tau| = mu_w p s / sqrt(s^2 + eps^2);
   /// 0 = automatic, 1e-3 * max(|V|, |omega| R).
   double wall_slip_regularisation = 0;
+  /// When inertia is used, approach the requested problem through Chauchat-Medale stages with
+  /// delta = 0.1, 0.01, ... x max(|V|, |omega| R) / R (> 2 delta), without inertia.
+  bool continuation = true;
   // ---- numerics
   int refinement = 3;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;

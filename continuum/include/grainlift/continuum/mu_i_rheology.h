@@ -57,10 +57,12 @@ class NewtonianViscosity final : public ViscosityModel {
 /// mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1),  I = 2 |D| d / sqrt(p+ / rho_s),  p+ = max(p, 0)
 /// (the pressure is clamped here, never in the solution).
 ///  - chauchat_medale: eta = mu(I) p+ / (2 sqrt(|D|^2 + delta^2))  (Chauchat & Medale, JCP 2014),
-///    with I computed from the unregularised |D|;
+///    with the same regularised sqrt(|D|^2 + delta^2) in place of |D| in I (smooth at |D| = 0);
 ///  - barker_gray: eta = mu_BG(I) p+ / (2 |D|), mu_BG = mu(I) for I >= I_N and
 ///    sqrt(alpha / ln(A / I)) below (Barker & Gray, JFM 2017), alpha, A from C1 continuity at I_N.
-/// Both are then limited to [eta_min, eta_max]; outside it the derivatives are zero.
+/// Both are then capped smoothly, eta <- eta_max tanh(eta / eta_max) (relative change
+/// (eta/eta_max)^2 / 3 well below the cap; keeps Newton's Jacobian continuous), and floored at
+/// eta_min (derivatives zero below the floor).
 class MuIRheology final : public ViscosityModel {
  public:
   explicit MuIRheology(const RheologyParams& params);

@@ -14,6 +14,9 @@ struct CouetteResult {
   double torque_exact = 0;     ///< N, -4 pi eta omega R1^2 R2^2 / (R2^2 - R1^2)
   double fx = 0, fy = 0;       ///< N/m, net force on the inner cylinder (exactly 0)
   double velocity_l2_error = 0;
+  /// max over 16 angles of |t.e_theta - tau_exact| / |tau_exact|, tau_exact = -2 eta B / R1^2
+  /// the exact wall shear stress: from the consistent traction and from sigma(grad u_h).n
+  double shear_error_consistent = 0, shear_error_gradient = 0;
   int cells = 0, dofs = 0;
 };
 

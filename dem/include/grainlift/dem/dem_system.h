@@ -83,12 +83,24 @@ class DemSystem {
   /// @brief Advance by one time step dt (synchronised velocity Verlet).
   void step();
 
+  /// @brief Build the lists and compute the accelerations of the current state (done by the
+  /// first step() otherwise; calling it first changes nothing in the results).
+  void prepare();
+
+  /// @brief Largest overlap / smaller diameter of the current positions (lists must be built:
+  /// call prepare() first). The intruder counts with the grain's diameter.
+  double current_max_overlap_fraction() const;
+
   /// @brief Change the Coulomb coefficients (packing preparation runs frictionless).
   void set_friction(double mu, double mu_intruder);
   /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
   void set_background_damping(double rate) { damping_rate_ = rate; }
   /// @brief Multiply every grain radius by factor (soft compression by radius growth).
   void scale_grain_radii(double factor);
+  /// @brief Keep the per-pair forces of every step in neighbors().fx/fy/q (default on; the
+  /// contact stress of the fields reads them). Off, a one-thread run skips those stores; the
+  /// forces on the bodies are the same bits either way.
+  void set_store_pair_forces(bool on) { store_pair_forces_ = on; }
   /// @brief Set every grain velocity and angular velocity to zero.
   void zero_velocities();
 
@@ -131,11 +143,15 @@ class DemSystem {
   double mu_ = 0, mu_intruder_ = 0;
   double skin_ = 0;
   int team_ = 1;  ///< threads actually used
+  bool store_pair_forces_ = true;
   double damping_rate_ = 0;
   double growth_since_build_ = 0;  ///< m, largest radius increase since the last build
   int n_grains_ = 0, n_total_ = 0;
   ParticleArrays p_;
-  std::vector<double> fx_, fy_, tq_;  ///< per-particle gathered force and torque
+  /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
+  /// on one thread (in the same order as the gather of the threaded path: same bits).
+  std::vector<double> fx_, fy_, tq_;
+  std::vector<std::vector<std::int64_t>> touch_;  ///< per thread: touching pairs of the step
   NeighborList nl_;
   Intruder intruder_;
   IntruderContacts ic_;
