@@ -165,7 +165,6 @@ class FlowProblem {
   mutable std::unique_ptr<dealii::GridTools::Cache<dim>> cache_;
   mutable dealii::Vector<double> traction_;  ///< nodal consistent traction (empty until needed)
   mutable int traction_id_ = -1;
-  bool partial_newton_ = false;
 };
 
 }  // namespace grainlift::continuum::internal

@@ -1,5 +1,6 @@
-// mu(I) and Newtonian viscosity kernels. Formulas: Jop, Forterre & Pouliquen, Nature 441 (2006)
-// eq. (2)-(3); Chauchat & Medale, JCP 256 (2014) eq. (9); Barker & Gray, JFM 828 (2017) sec. 3.
+// mu(I) and Newtonian viscosity kernels. Formulas: mu(I) and I of Jop, Forterre & Pouliquen,
+// Nature 441 (2006); regularisation of Chauchat & Medale, JCP 256 (2014); partial
+// regularisation of Barker & Gray, JFM 828 (2017) (the C1 joint at I_N is derived here).
 #include "grainlift/continuum/mu_i_rheology.h"
 
 #include <algorithm>

@@ -101,7 +101,15 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
   for (const auto& solver : solvers) {
     ProgressReporter progress(solver.name, options.progress);
     const auto t0 = std::chrono::steady_clock::now();
-    RunResult r = solver.run(c, options, progress);
+    RunResult r;
+    try {
+      r = solver.run(c, options, progress);
+    } catch (...) {
+      // The solvers that finished keep their files; the summary lists them before the
+      // failure propagates (exit code 1 or 2).
+      if (!results.empty()) write_summary(options.out_dir, c.source.hash);
+      throw;
+    }
     r.meta.solver = solver.name;
     r.meta.grainlift_version = grainlift_version();
     r.meta.git_revision = grainlift_git_revision();

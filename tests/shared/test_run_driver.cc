@@ -108,3 +108,19 @@ TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
   const RunResult back = read_result((out / "dem.h5").string());
   EXPECT_DOUBLE_EQ(back.means->drag, 10);  // the old complete file survives
 }
+
+TEST(RunDriver, SolversThatFinishedAreSummarisedWhenALaterOneFails) {
+  const fs::path out = fs::temp_directory_path() / ("grainlift_driver3_" + std::to_string(getpid()));
+  const Case c = parse_case(case_text, "fake.toml");
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.progress = false;
+  SolverEntry broken = fake("fem", 0, 0, false);
+  broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
+    throw RunError("did not converge");
+  };
+  EXPECT_THROW(run_solvers(c, {fake("dem", 7, -1, true), broken}, opt), RunError);
+  const std::string json = slurp(out / "summary.json");
+  EXPECT_NE(json.find("\"dem\""), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"fem\""), std::string::npos) << json;
+}
