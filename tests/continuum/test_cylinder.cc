@@ -101,17 +101,17 @@ TEST(Cylinder, FrictionlessWallTransmitsNoTorque) {
   EXPECT_LT(std::abs(out.fy), 1e-6 * drag);
 }
 
-// Sampled fields: NaN inside the intruder and outside the box, the far-field velocity -V on the
+// Sampled fields (point values at the bin centres): NaN inside the intruder and outside the box, the far-field velocity -V on the
 // inflow boundary (to 1e-9 m/s), the lithostatic normal stress on the outflow boundary (to 10%
 // of P0 pointwise: the traction is imposed weakly and this mesh is the coarsest), a VTU file.
 TEST(Cylinder, SampledFieldsAndVtu) {
   ContinuumConfig c = coarse_case();
   c.refinement = 0;
   c.fields.enabled = true;
-  c.fields.x0 = -0.5;
-  c.fields.y0 = -0.5;
+  c.fields.x0 = -0.525;  // bins of 0.05 m: centres at -0.5 + 0.05 i
+  c.fields.y0 = -0.525;
   c.fields.spacing = 0.05;
-  c.fields.nx = 22;  // the last column, x = 0.55, is outside the box
+  c.fields.nx = 22;  // the last column, centred at x = 0.55, is outside the box
   c.fields.ny = 21;
   const auto dir = std::filesystem::temp_directory_path() / "grainlift_continuum_test_vtu";
   std::filesystem::remove_all(dir);

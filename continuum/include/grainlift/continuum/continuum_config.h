@@ -56,11 +56,11 @@ struct ContinuumConfig {
   InertiaMode inertia = InertiaMode::automatic;
   // ---- added by the continuum engine
   /// InertiaMode::automatic keeps rho (u.grad)u only when rho |V|^2 / P0 >= this value.
-  double inertia_threshold = 1e-3;
+  double inertia_threshold = 1e-2;
   /// m/s, slip velocity of the regularised Coulomb wall: |tau| = mu_w p s / sqrt(s^2 + eps^2);
   /// 0 = automatic, 1e-3 * max(|V|, |omega| R).
   double wall_slip_regularisation = 0;
-  /// When inertia is used, approach the requested problem through Chauchat-Medale stages with
+  /// Approach the requested problem through Chauchat-Medale stages with
   /// delta = 0.1, 0.01, ... x max(|V|, |omega| R) / R (> 2 delta), without inertia.
   bool continuation = true;
   // ---- numerics
