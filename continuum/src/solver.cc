@@ -1,5 +1,5 @@
 // solve_flow(): the cylinder problem (geometry, boundary conditions, outputs) on top of the
-// FlowProblem engine. Conventions: docs/continuum-model.md and shared/reference/targets.md.
+// FlowProblem engine. Conventions: docs/continuum-model.md (theta from V, counter-clockwise).
 #include "grainlift/continuum/solver.h"
 
 #include <deal.II/grid/grid_generator.h>

@@ -129,14 +129,18 @@ std::vector<KeySpec> make_keys() {
                      "rho (u.grad)u term: auto skips it when rho V^2 / P0 is negligible"));
   k.push_back(vec2("continuum.box_half_size", false, "from the domain", 0, 1e4, "m",
                    "half width and half height of the FE box around the intruder"));
-  k.push_back(integer("continuum.refinement", "3", 0, 8, "global refinement level of the mesh"));
-  k.push_back(integer("continuum.adaptive_cycles", "0", 0, 6, "adaptive refinement cycles"));
+  k.push_back(integer("continuum.refinement", "2", 0, 7,
+                      "global refinement level of the mesh (3 and above: lift not yet reliable, "
+                      "see docs/continuum-model.md)"));
+  k.push_back(integer("continuum.adaptive_cycles", "0", 0, 0,
+                      "adaptive refinement cycles (not implemented yet: only 0)"));
   k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));
   k.push_back(integer("continuum.picard_iterations", "5", 0, 1000, "Picard warm-up steps"));
-  k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct", "amg"},
-                     "direct (UMFPACK) or FGMRES with block AMG preconditioner"));
+  k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct"},
+                     "direct (UMFPACK); FGMRES with a block AMG preconditioner is not "
+                     "implemented yet"));
   // [output]
   k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
   k.push_back(real("output.kernel_width_deg", false, "8.0", 0, 90, true, false, "deg",

@@ -1,5 +1,5 @@
 // Plain-data description of one continuum (mu(I)) run, filled from the case file by the
-// glue in continuum/src/continuum_solver.cc. No deal.II types here: files that include
+// glue in continuum/glue/continuum_solver.cc. No deal.II types here: files that include
 // this header compile fast.
 #pragma once
 

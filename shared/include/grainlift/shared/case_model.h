@@ -71,7 +71,7 @@ struct ContinuumSection {
   double wall_friction = 0;     ///< default: intruder.friction
   std::string inertia = "auto";
   Vec2 box_half_size{0, 0};     ///< m; 0 = from the domain
-  int refinement = 3;
+  int refinement = 2;
   int adaptive_cycles = 0;
   double tolerance = 1e-8;
   int max_iterations = 50;
