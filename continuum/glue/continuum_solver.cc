@@ -7,6 +7,7 @@
 
 #include "grainlift/continuum/errors.h"
 #include "grainlift/continuum/solver.h"
+#include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/force_statistics.h"
 #include "grainlift/shared/surface_stress.h"
@@ -64,15 +65,13 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   // Surface angles: the shared grid, measured from V, turned into lab angles from +x.
   const double heading = std::atan2(c.intruder.velocity[1], c.intruder.velocity[0]);
   for (double t : surface_angle_grid(c.output.angles)) f.surface_theta.push_back(t + heading);
-  if (c.output.fields) {
-    const double h = c.output.field_spacing * c.grains.diameter;
-    f.fields.enabled = true;
-    f.fields.spacing = h;
-    f.fields.nx = std::max(1, int(std::ceil(2 * c.output.field_half_size[0] * c.intruder.diameter / h)));
-    f.fields.ny = std::max(1, int(std::ceil(2 * c.output.field_half_size[1] * c.intruder.diameter / h)));
-    f.fields.x0 = -0.5 * f.fields.nx * h;
-    f.fields.y0 = -0.5 * f.fields.ny * h;
-  }
+  const FieldGridLayout grid = field_grid_layout(c);
+  f.fields.enabled = grid.enabled;
+  f.fields.x0 = grid.x0;
+  f.fields.y0 = grid.y0;
+  f.fields.spacing = grid.spacing;
+  f.fields.nx = grid.nx;
+  f.fields.ny = grid.ny;
   if (c.output.vtu) f.vtu_directory = out_dir + "/fem_vtu";
   return f;
 }
@@ -106,8 +105,9 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   }
   if (cfg.fields.enabled && !out.vx.empty()) {
     FieldGrid g;
-    for (int i = 0; i < cfg.fields.nx; ++i) g.x.push_back(cfg.fields.x0 + (i + 0.5) * cfg.fields.spacing);
-    for (int j = 0; j < cfg.fields.ny; ++j) g.y.push_back(cfg.fields.y0 + (j + 0.5) * cfg.fields.spacing);
+    const FieldGridLayout layout = field_grid_layout(c);
+    g.x = layout.x_centres();
+    g.y = layout.y_centres();
     g.velocity_x = out.vx;
     g.velocity_y = out.vy;
     if (!out.pressure.empty()) g.pressure = out.pressure;
@@ -118,21 +118,12 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
     }
     r.fields = std::move(g);
   }
+  r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
-  q.intruder_diameter = c.intruder.diameter;
-  q.intruder_x = c.intruder.position[0];
-  q.intruder_y = c.intruder.position[1];
-  q.grain_diameter = c.grains.diameter;
   q.domain_xmin = c.intruder.position[0] - cfg.half_width;
   q.domain_xmax = c.intruder.position[0] + cfg.half_width;
   q.domain_ymin = c.intruder.position[1] - cfg.half_height;
   q.domain_ymax = c.intruder.position[1] + cfg.half_height;
-  q.velocity_x = vx;
-  q.velocity_y = vy;
-  q.omega = c.intruder.omega;
-  q.gravity_x = c.scene.gravity[0];
-  q.gravity_y = c.scene.gravity[1];
-  q.bulk_density = c.bulk_density();
   q.pressure_scale = cfg.ambient_pressure;
   r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
                              "final relative residual {:.3g}",

@@ -11,6 +11,7 @@
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/simulation.h"
+#include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/force_statistics.h"
 #include "grainlift/shared/surface_stress.h"
@@ -27,7 +28,7 @@ std::string packing_cache_dir(const std::string& setting) {
   return "";
 }
 
-RunResult to_result(const Case& c, const DemOutput& out, const DemConfig& cfg) {
+RunResult to_result(const Case& c, const DemOutput& out) {
   RunResult r;
   const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
   const double heading = std::atan2(vy, vx);
@@ -92,8 +93,9 @@ RunResult to_result(const Case& c, const DemOutput& out, const DemConfig& cfg) {
   if (out.fields.nx > 0 && out.fields.snapshots > 0) {
     const auto& a = out.fields;
     FieldGrid g;
-    for (int i = 0; i < a.nx; ++i) g.x.push_back(cfg.fields.x0 + (i + 0.5) * cfg.fields.spacing);
-    for (int j = 0; j < a.ny; ++j) g.y.push_back(cfg.fields.y0 + (j + 0.5) * cfg.fields.spacing);
+    const FieldGridLayout layout = field_grid_layout(c);
+    g.x = layout.x_centres();
+    g.y = layout.y_centres();
     // Velocity and temperature are undefined in bins no grain ever covered (the wake cavity,
     // the intruder): NaN there, not zero.
     auto where_grains = [&](std::vector<double> v) {
@@ -114,21 +116,8 @@ RunResult to_result(const Case& c, const DemOutput& out, const DemConfig& cfg) {
     r.fields = std::move(g);
   }
 
+  r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
-  q.intruder_diameter = c.intruder.diameter;
-  q.intruder_x = c.intruder.position[0];
-  q.intruder_y = c.intruder.position[1];
-  q.grain_diameter = c.grains.diameter;
-  q.domain_xmin = c.domain.x_range[0];
-  q.domain_xmax = c.domain.x_range[1];
-  q.domain_ymin = c.domain.y_range[0];
-  q.domain_ymax = c.domain.y_range[1];
-  q.velocity_x = vx;
-  q.velocity_y = vy;
-  q.omega = c.intruder.omega;
-  q.gravity_x = c.scene.gravity[0];
-  q.gravity_y = c.scene.gravity[1];
-  q.bulk_density = c.bulk_density();
   // Pressure scale: the lithostatic pressure at the intruder under gravity, else the
   // mean drag per unit projected area D / diameter (a measured dynamic pressure).
   q.pressure_scale = c.lithostatic_pressure() > 0
@@ -188,17 +177,13 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
   d.packing_cache_dir = packing_cache_dir(c.dem.packing_cache);
-  if (c.output.fields) {
-    const double h = c.output.field_spacing * c.grains.diameter;
-    const double hx = c.output.field_half_size[0] * c.intruder.diameter;
-    const double hy = c.output.field_half_size[1] * c.intruder.diameter;
-    d.fields.enabled = true;
-    d.fields.spacing = h;
-    d.fields.nx = std::max(1, int(std::ceil(2 * hx / h)));
-    d.fields.ny = std::max(1, int(std::ceil(2 * hy / h)));
-    d.fields.x0 = -0.5 * d.fields.nx * h;
-    d.fields.y0 = -0.5 * d.fields.ny * h;
-  }
+  const FieldGridLayout grid = field_grid_layout(c);
+  d.fields.enabled = grid.enabled;
+  d.fields.x0 = grid.x0;
+  d.fields.y0 = grid.y0;
+  d.fields.spacing = grid.spacing;
+  d.fields.nx = grid.nx;
+  d.fields.ny = grid.ny;
   return d;
 }
 
@@ -218,7 +203,7 @@ SolverEntry solver_entry() {
     } catch (const RunFailure& e) {
       throw RunError(e.what());
     }
-    return to_result(c, out, cfg);
+    return to_result(c, out);
   };
   return e;
 }
