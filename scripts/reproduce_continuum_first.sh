@@ -23,3 +23,6 @@ done
 /usr/bin/python3 scripts/plot_sweep.py ld-omega "$O/ld_omega.png" \
   "runs/kumar2019/omega_phi080/sweep.csv:DEM, Phi 0.8" \
   "$O/omega_no_slip/sweep.csv:mu(I), no-slip wall" "$O/omega_coulomb/sweep.csv:mu(I), Coulomb wall mu_w 0.5"
+# Regularisation: delta at h = 4 D (box 0.12 m x 0.08 m, refinement 1)
+"$G" sweep cases/guillard2014/gradient.toml "${S[@]}" --set "continuum.box_half_size=[0.06,0.04]" \
+  --set continuum.refinement=1 --vary continuum.delta=1e-1,1e-2,1e-3,1e-4,1e-5 --out "$O/delta"

@@ -49,6 +49,9 @@ plots() {
   $PY scripts/plot_sweep.py ld-omega "$OUT/ld_omega.png" "$OUT/omega_phi080/sweep.csv:Phi 0.8" "${phi035[@]}"
   $PY scripts/plot_sweep.py drag-speed "$OUT/drag_speed.png" "$OUT/speed_phi080/sweep.csv:Phi 0.8, Omega 0"
   $PY scripts/plot_sweep.py ld-mu "$OUT/ld_mu.png" "${mu[@]}"
+  local r="$OUT/omega_phi080"
+  $PY scripts/plot_distributions.py "$OUT/distributions_phi080.png" "$r/intruder.omega=0:Omega 0" \
+      "$r/intruder.omega=20:Omega 1" "$r/intruder.omega=80:Omega 4" "$r/intruder.omega=400:Omega 20"
 }
 
 case "$PART" in
