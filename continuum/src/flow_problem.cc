@@ -447,20 +447,10 @@ ForceTorque FlowProblem::surface_integral(types::boundary_id id, const Point2& c
   return ft;
 }
 
-PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& centre, double angle,
-                                       Vec2& normal_out_of_medium, Point2& where) const {
-  // The stress is discontinuous across cells: a point on a vertex is shared by two faces, and
-  // their states are averaged so that mirror-symmetric angles see mirror-symmetric values.
-  const UpdateFlags flags =
-      update_values | update_gradients | update_quadrature_points | update_normal_vectors;
-  SymmetricTensor<2, dim> stress_sum;
-  Vec2 u_sum, n_sum;
-  Point2 x_sum;
-  double p_sum = 0, eta_sum = 0, I_sum = 0;
+int FlowProblem::visit_boundary_at_angle(types::boundary_id id, const Point2& centre, double angle,
+                                         UpdateFlags flags, const char* who,
+                                         const std::function<void(const FEFaceValues<dim>&)>& visit) const {
   int found = 0;
-  std::vector<SymmetricTensor<2, dim>> sym(1);
-  std::vector<double> p(1);
-  std::vector<Vec2> u(1);
   for (const auto& cell : dof_handler_.active_cell_iterators())
     for (const auto& face : cell->face_iterators()) {
       if (!face->at_boundary() || face->boundary_id() != id) continue;
@@ -472,10 +462,35 @@ PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& cent
       const double tc = std::clamp(t, 0.0, 1.0);
       for (const double tt : {tc, 1.0 - tc}) {
         const Quadrature<dim - 1> q{Point<dim - 1>(tt)};
-        FEFaceValues<dim> ffv(mapping_, fe_, q, flags);
+        FEFaceValues<dim> ffv(mapping_, fe_, q, flags | update_quadrature_points);
         ffv.reinit(cell, face);
         const Vec2 x = ffv.quadrature_point(0) - centre;
         if (std::abs(wrap_angle(std::atan2(x[1], x[0]) - angle)) > 0.25 * std::abs(da)) continue;
+        visit(ffv);
+        ++found;
+        break;
+      }
+    }
+  if (found == 0)
+    throw std::runtime_error(std::string(who) + ": no boundary face at the requested angle");
+  return found;
+}
+
+PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& centre, double angle,
+                                       Vec2& normal_out_of_medium, Point2& where) const {
+  // The stress is discontinuous across cells: a point on a vertex is shared by two faces, and
+  // their states are averaged so that mirror-symmetric angles see mirror-symmetric values.
+  const UpdateFlags flags =
+      update_values | update_gradients | update_quadrature_points | update_normal_vectors;
+  SymmetricTensor<2, dim> stress_sum;
+  Vec2 u_sum, n_sum;
+  Point2 x_sum;
+  double p_sum = 0, eta_sum = 0, I_sum = 0;
+  std::vector<SymmetricTensor<2, dim>> sym(1);
+  std::vector<double> p(1);
+  std::vector<Vec2> u(1);
+  const int found =
+      visit_boundary_at_angle(id, centre, angle, flags, "boundary_state", [&](const FEFaceValues<dim>& ffv) {
         ffv[kVelocity].get_function_symmetric_gradients(solution_, sym);
         ffv[kPressure].get_function_values(solution_, p);
         ffv[kVelocity].get_function_values(solution_, u);
@@ -487,11 +502,7 @@ PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& cent
         u_sum += u[0];
         n_sum += ffv.normal_vector(0);
         x_sum += Vec2(ffv.quadrature_point(0));
-        ++found;
-        break;
-      }
-    }
-  if (found == 0) throw std::runtime_error("boundary_state: no boundary face at the requested angle");
+      });
   normal_out_of_medium = n_sum / n_sum.norm();
   where = x_sum / found;
   PointState st;
@@ -558,30 +569,12 @@ Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centr
   }
   // evaluate t_h on the face(s) at the requested angle
   Vec2 sum;
-  int found = 0;
   std::vector<Vec2> t(1);
-  for (const auto& cell : dof_handler_.active_cell_iterators())
-    for (const auto& face : cell->face_iterators()) {
-      if (!face->at_boundary() || face->boundary_id() != id) continue;
-      const Vec2 v0 = face->vertex(0) - centre, v1 = face->vertex(1) - centre;
-      const double a0 = std::atan2(v0[1], v0[0]);
-      const double da = wrap_angle(std::atan2(v1[1], v1[0]) - a0);
-      const double tp = wrap_angle(angle - a0) / da;
-      if (!(tp >= -1e-10 && tp <= 1 + 1e-10)) continue;
-      const double tc = std::clamp(tp, 0.0, 1.0);
-      for (const double tt : {tc, 1.0 - tc}) {
-        const Quadrature<dim - 1> q{Point<dim - 1>(tt)};
-        FEFaceValues<dim> ffv(mapping_, fe_, q, update_values | update_quadrature_points);
-        ffv.reinit(cell, face);
-        const Vec2 x = ffv.quadrature_point(0) - centre;
-        if (std::abs(wrap_angle(std::atan2(x[1], x[0]) - angle)) > 0.25 * std::abs(da)) continue;
-        ffv[kVelocity].get_function_values(traction_, t);
-        sum += t[0];
-        ++found;
-        break;
-      }
-    }
-  if (found == 0) throw std::runtime_error("consistent_traction: no boundary face at the requested angle");
+  const int found = visit_boundary_at_angle(id, centre, angle, update_values, "consistent_traction",
+                                            [&](const FEFaceValues<dim>& ffv) {
+                                              ffv[kVelocity].get_function_values(traction_, t);
+                                              sum += t[0];
+                                            });
   return sum / found;
 }
 

@@ -10,6 +10,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_q_cache.h>
 #include <deal.II/grid/grid_tools_cache.h>
 #include <deal.II/grid/tria.h>
@@ -144,6 +145,14 @@ class FlowProblem {
   void interpolate_initial_guess();
 
  private:
+  /// Calls @p visit with face values at the boundary point of boundary @p id seen at
+  /// @p angle (rad) from @p centre: once, or twice when the angle falls on a vertex shared by
+  /// two faces. Returns the number of visits; throws when there is none (@p who names the
+  /// caller in the message).
+  int visit_boundary_at_angle(dealii::types::boundary_id id, const Point2& centre, double angle,
+                              dealii::UpdateFlags flags, const char* who,
+                              const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
+
   void make_constraints(dealii::AffineConstraints<double>& c, bool homogeneous) const;
   /// Residual (and matrix when @p matrix != nullptr) at @p state. With @p reaction_mode, only
   /// the volume terms, added without constraints (for the reaction forces).
