@@ -51,6 +51,8 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
                                                                   : Regularisation::chauchat_medale;
   rh.delta = c.continuum.delta;
   rh.eta_max = c.continuum.eta_max;
+  rh.pressure_smoothing = c.continuum.pressure_smoothing * f.ambient_pressure;
+  f.linearised_gravity = c.continuum.gravity_treatment == "linearised";
   f.wall = c.continuum.wall == "coulomb" ? WallCondition::coulomb : WallCondition::no_slip;
   f.wall_friction = c.continuum.wall_friction;
   f.inertia = c.continuum.inertia == "on"    ? InertiaMode::on
@@ -126,9 +128,13 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   q.domain_ymax = c.intruder.position[1] + cfg.half_height;
   q.pressure_scale = cfg.ambient_pressure;
   r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
-                             "final relative residual {:.3g}",
+                             "final relative residual {:.3g}, continuation splits {}{}",
                              out.cells, out.dofs, out.nonlinear_iterations,
-                             out.linear_iterations, out.final_residual);
+                             out.linear_iterations, out.final_residual, out.continuation_splits,
+                             cfg.linearised_gravity
+                                 ? fmt::format(", linearised gravity correction {:.3g} s",
+                                               out.correction_seconds)
+                                 : std::string());
   return r;
 }
 

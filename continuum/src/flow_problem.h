@@ -136,7 +136,8 @@ class FlowProblem {
   // ---- access
   const dealii::DoFHandler<dim>& dof_handler() const { return dof_handler_; }
   const dealii::Vector<double>& solution() const { return solution_; }
-  dealii::Vector<double>& solution() { return solution_; }
+  /// Write access to the state; drops the cached consistent traction.
+  dealii::Vector<double>& solution() { traction_id_ = -1; return solution_; }
   const dealii::SparseMatrix<double>& system_matrix() const { return system_matrix_; }
   const dealii::AffineConstraints<double>& zero_constraints() const { return zero_constraints_; }
   const dealii::AffineConstraints<double>& nonzero_constraints() const { return nonzero_constraints_; }

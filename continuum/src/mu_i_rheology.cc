@@ -75,7 +75,15 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
     // gd = sqrt(|D|^2 + delta^2) (Chauchat-Medale) or |D| floored (Barker-Gray) is used both
     // in I and in the denominator of eta.
     const double gd = cm ? std::sqrt(s + delta2) : std::max(std::sqrt(s), kStrainFloor);
-    const double pe = std::max(in.pressure[q], 0.0);  // pressure clamped in the rheology only
+    // pressure clamped in the rheology only: max(p, 0), or its smooth version
+    // (p + sqrt(p^2 + p_eps^2)) / 2 when pressure_smoothing = p_eps > 0
+    const double p = in.pressure[q];
+    double pe = std::max(p, 0.0), dpe_dp = p > 0 ? 1.0 : 0.0;
+    if (p_.pressure_smoothing > 0) {
+      const double root = std::sqrt(p * p + p_.pressure_smoothing * p_.pressure_smoothing);
+      pe = 0.5 * (p + root);
+      dpe_dp = 0.5 * (1 + p / root);
+    }
     // I = 2 gd d / sqrt(p / rho_s); dI/ds = I / (2 gd^2); dI/dp = -I / (2 p)
     const double I = pe > 0 ? 2 * gd * d * std::sqrt(rho_s / pe)
                             : std::numeric_limits<double>::infinity();
@@ -85,7 +93,7 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
     if (pe > 0) {
       const double dI_ds = d * std::sqrt(rho_s / pe) / gd;  // = I / (2 gd^2)
       deta_ds = pe / (2 * gd) * dmu * dI_ds - mu * pe / (4 * gd * gd * gd);
-      deta_dp = (mu - 0.5 * I * dmu) / (2 * gd);
+      deta_dp = (mu - 0.5 * I * dmu) / (2 * gd) * dpe_dp;
     }
     // smooth cap: eta_max tanh(eta / eta_max) (relative change (eta/eta_max)^2 / 3 when
     // eta << eta_max); keeps Newton's Jacobian continuous where the cap switches on

@@ -7,6 +7,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -166,6 +167,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const Vec2 g({c.gravity[0], c.gravity[1]});
     const double omega = c.intruder_omega, rho = c.bulk_density, P0 = c.ambient_pressure;
     const double speed = V.norm();
+    const double vref = std::max(speed, std::abs(omega) * R);
 
     // ---- mesh (see make_intruder_mesh)
     Triangulation<internal::dim> tria;
@@ -173,90 +175,141 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
 
     // ---- physics
     MuIRheology rheology(c.rheology);
-    const auto p_lith = [=](const Point2& x) { return P0 + rho * (g * x); };  // P0 + rho g.x
-    ProblemSetup setup;
-    setup.viscosity = &rheology;
-    setup.log = log;
-    if (g.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g); };
-    const double vref = std::max(speed, std::abs(omega) * R);
-    switch (c.inertia) {
-      case InertiaMode::off: break;
-      case InertiaMode::on: setup.inertia_density = rho; break;
-      case InertiaMode::automatic:
-        if (rho * vref * vref / P0 >= c.inertia_threshold) setup.inertia_density = rho;
-        break;
-    }
+    // The problem with gravity g_used: body force rho g, far field at P0 + rho g.x.
+    const auto make_setup = [&](const Vec2& g_used) {
+      const auto p_lith = [=](const Point2& x) { return P0 + rho * (g_used * x); };
+      ProblemSetup setup;
+      setup.viscosity = &rheology;
+      setup.log = log;
+      if (g_used.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g_used); };
+      // far field: Dirichlet u = -V where the flow enters or slides along the box, the
+      // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
+      const auto far_velocity = [=](const Point2&) { return Vec2(-V); };
+      const auto lithostatic = [=](const Point2& x, const Vec2& n) { return Vec2(-p_lith(x) * n); };
+      const std::pair<types::boundary_id, Vec2> sides[] = {{kLeft, Vec2({-1, 0})},
+                                                           {kRight, Vec2({1, 0})},
+                                                           {kBottom, Vec2({0, -1})},
+                                                           {kTop, Vec2({0, 1})}};
+      for (const auto& [id, n] : sides) {
+        if (speed == 0 || (-V) * n > 1e-12 * speed)
+          setup.bc.traction[id] = lithostatic;
+        else
+          setup.bc.dirichlet[id] = far_velocity;
+      }
+      const auto wall_velocity = [omega](const Point2& x) { return Vec2({-omega * x[1], omega * x[0]}); };
+      if (c.wall == WallCondition::no_slip) {
+        setup.bc.dirichlet[kHole] = wall_velocity;
+      } else {
+        internal::FrictionWall w;
+        w.id = kHole;
+        w.wall_velocity = wall_velocity;
+        w.mu_w = c.wall_friction;
+        w.slip_scale = c.wall_slip_regularisation > 0 ? c.wall_slip_regularisation
+                                                      : std::max(1e-3 * vref, 1e-12);
+        setup.bc.friction = w;
+      }
+      setup.initial_velocity = far_velocity;
+      setup.initial_pressure = p_lith;
+      setup.nonlinear.relative_tolerance = c.nonlinear_tolerance;
+      setup.nonlinear.max_iterations = c.max_nonlinear_iterations;
+      setup.nonlinear.picard_iterations = c.picard_iterations;
+      switch (c.inertia) {
+        case InertiaMode::off: break;
+        case InertiaMode::on: setup.inertia_density = rho; break;
+        case InertiaMode::automatic:
+          if (rho * vref * vref / P0 >= c.inertia_threshold) setup.inertia_density = rho;
+          break;
+      }
+      return setup;
+    };
+    // linearised gravity: the nonlinear solve is the base state without gravity
+    const bool linearised = c.linearised_gravity && g.norm() > 0;
+    const ProblemSetup setup = make_setup(linearised ? Vec2() : g);
     out.inertia_used = setup.inertia_density > 0;
-
-    // far field: Dirichlet u = -V where the flow enters or slides along the box, the
-    // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
-    const auto far_velocity = [=](const Point2&) { return Vec2(-V); };
-    const auto lithostatic = [=](const Point2& x, const Vec2& n) { return Vec2(-p_lith(x) * n); };
-    const std::pair<types::boundary_id, Vec2> sides[] = {{kLeft, Vec2({-1, 0})},
-                                                         {kRight, Vec2({1, 0})},
-                                                         {kBottom, Vec2({0, -1})},
-                                                         {kTop, Vec2({0, 1})}};
-    for (const auto& [id, n] : sides) {
-      if (speed == 0 || (-V) * n > 1e-12 * speed)
-        setup.bc.traction[id] = lithostatic;
-      else
-        setup.bc.dirichlet[id] = far_velocity;
-    }
-    const auto wall_velocity = [omega](const Point2& x) { return Vec2({-omega * x[1], omega * x[0]}); };
-    if (c.wall == WallCondition::no_slip) {
-      setup.bc.dirichlet[kHole] = wall_velocity;
-    } else {
-      internal::FrictionWall w;
-      w.id = kHole;
-      w.wall_velocity = wall_velocity;
-      w.mu_w = c.wall_friction;
-      w.slip_scale = c.wall_slip_regularisation > 0 ? c.wall_slip_regularisation
-                                                    : std::max(1e-3 * vref, 1e-12);
-      setup.bc.friction = w;
-    }
-    setup.initial_velocity = far_velocity;
-    setup.initial_pressure = p_lith;
-    setup.nonlinear.relative_tolerance = c.nonlinear_tolerance;
-    setup.nonlinear.max_iterations = c.max_nonlinear_iterations;
-    setup.nonlinear.picard_iterations = c.picard_iterations;
 
     // ---- continuation: the target problem is approached through Chauchat-Medale stages with
     // delta_k = 0.1 gamma_ref, 0.01 gamma_ref, ... (> 2 delta), gamma_ref = v_ref / R, without
     // inertia, each solved to 1e-3 |R_0|; the last stage is the requested rheology and
-    // inertia, solved to nonlinear_tolerance |R_0|.
+    // inertia, solved to nonlinear_tolerance |R_0|. A stage that does not converge is retried
+    // from the last converged state after an intermediate stage at the geometric mean of the
+    // two deltas (at most kMaxSplits times in a run): a factor of 10 in delta is too large a
+    // step for some problems (e.g. low P0 with an opening behind the intruder at refinement 2).
     const double gamma_ref = std::max(vref, 1e-12) / R;
-    const bool continuation = c.continuation;
-    std::vector<std::unique_ptr<MuIRheology>> stages;
-    for (double delta = 0.1 * gamma_ref; continuation && delta > 2 * c.rheology.delta; delta *= 0.1) {
-      RheologyParams prm = c.rheology;
-      prm.regularisation = Regularisation::chauchat_medale;
-      prm.delta = delta;
-      stages.push_back(std::make_unique<MuIRheology>(prm));
-    }
+    struct Stage { double delta; bool final; };
+    std::deque<Stage> todo;
+    for (double delta = 0.1 * gamma_ref; c.continuation && delta > 2 * c.rheology.delta; delta *= 0.1)
+      todo.push_back({delta, false});
+    todo.push_back({c.rheology.delta, true});
+    constexpr int kMaxSplits = 6, kStageIterations = 20;
+    int splits = 0, stage_number = 0;
+    double done_delta = -1;  // delta of the last converged stage; < 0: none yet
+    std::vector<std::unique_ptr<MuIRheology>> stage_rheology;  // outlive the solves
     const double rho_inertia = setup.inertia_density;
     FlowProblem problem(tria, setup);
     problem.setup_system();
     problem.interpolate_initial_guess();
-    for (std::size_t k = 0; k < stages.size(); ++k) {
+    while (!todo.empty()) {
+      const Stage st = todo.front();
       internal::NonlinearSettings nl = setup.nonlinear;
-      nl.relative_tolerance = std::max(1e-3, c.nonlinear_tolerance);
-      nl.picard_iterations = k == 0 ? c.picard_iterations : 0;
-      problem.set_viscosity(stages[k].get());
-      problem.set_inertia_density(0);
+      nl.picard_iterations = stage_number == 0 ? c.picard_iterations : 0;
       std::ostringstream os;
-      os << "continuum: continuation stage " << k + 1 << " of " << stages.size() + 1
-         << ", delta = " << stages[k]->params().delta << " 1/s";
+      if (st.final) {
+        problem.set_viscosity(&rheology);
+        problem.set_inertia_density(rho_inertia);
+        os << "continuum: final stage";
+      } else {
+        RheologyParams prm = c.rheology;
+        prm.regularisation = Regularisation::chauchat_medale;
+        prm.delta = st.delta;
+        stage_rheology.push_back(std::make_unique<MuIRheology>(prm));
+        problem.set_viscosity(stage_rheology.back().get());
+        problem.set_inertia_density(0);
+        nl.relative_tolerance = std::max(1e-3, c.nonlinear_tolerance);
+        // a stage that needs more than 20 steps is better split than pushed
+        nl.max_iterations = std::min(nl.max_iterations, kStageIterations);
+        os << "continuum: continuation stage " << stage_number + 1 << ", delta = " << st.delta
+           << " 1/s";
+      }
       say(os.str());
+      const Vector<double> saved = problem.solution();
       problem.solve_nonlinear(nl);
+      ++stage_number;
+      if (!problem.report().converged && done_delta > 0 && splits < kMaxSplits) {
+        // back to the last converged state, through an intermediate delta
+        problem.solution() = saved;
+        const double mid = std::sqrt(done_delta * st.delta);
+        todo.push_front({mid, false});
+        ++splits;
+        std::ostringstream msg;
+        msg << "continuum: stage did not converge; retrying through delta = " << mid << " 1/s";
+        say(msg.str());
+        continue;
+      }
+      if (problem.report().converged) done_delta = st.delta;
+      todo.pop_front();
     }
-    {
-      internal::NonlinearSettings nl = setup.nonlinear;
-      if (!stages.empty()) nl.picard_iterations = 0;
-      problem.set_viscosity(&rheology);
-      problem.set_inertia_density(rho_inertia);
-      say("continuum: final stage");
-      problem.solve_nonlinear(nl);
+    out.continuation_splits = splits;
+    // ---- linearised gravity: one Newton step from the base state of the problem with gravity
+    std::unique_ptr<FlowProblem> corrected;
+    if (linearised) {
+      say("continuum: first-order gravity correction (one linear solve at the base state)");
+      const auto t0 = std::chrono::steady_clock::now();
+      corrected = std::make_unique<FlowProblem>(tria, make_setup(g));
+      corrected->set_viscosity(&rheology);
+      corrected->setup_system();
+      corrected->solution() = problem.solution();
+      Vector<double> residual, update;
+      corrected->assemble_system(corrected->solution(), true, true, residual);
+      corrected->solve(residual, update);
+      corrected->solution() += update;
+      std::ostringstream os;
+      out.correction_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      os << "continuum: gravity correction: |R_g(u_0)| = " << residual.l2_norm() << ", "
+         << out.correction_seconds << " s";
+      say(os.str());
     }
+    FlowProblem& post = corrected ? *corrected : problem;
     const auto& rep = problem.report();
     out.converged = rep.converged;
     out.message = rep.message;
@@ -269,33 +322,74 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.cells = static_cast<int>(tria.n_active_cells());
     out.dofs = static_cast<int>(problem.dof_handler().n_dofs());
 
-    // ---- forces: consistent reaction on the hole, surface integral as a diagnostic
-    const auto reac = problem.reaction(kHole, Point2());
-    const auto surf = problem.surface_integral(kHole, Point2());
+    // ---- forces (consistent reaction on the hole; surface integral as a diagnostic) and the
+    // surface stresses at theta measured from V counter-clockwise, from the consistent traction
+    // (the reaction forces spread by the boundary mass matrix), which converges like the
+    // forces; sigma(grad u_h).n at the wall converges at rate < 2
+    const double phi0 = speed > 0 ? std::atan2(V[1], V[0]) : 0.0;
+    struct SurfaceOutputs {
+      internal::ForceTorque reac, surf;
+      std::vector<double> sigma_n, sigma_t;
+    };
+    const auto collect = [&](const FlowProblem& fp) {
+      SurfaceOutputs so;
+      so.reac = fp.reaction(kHole, Point2());
+      so.surf = fp.surface_integral(kHole, Point2());
+      for (const double theta : c.surface_theta) {
+        const double phi = phi0 + theta;
+        const Vec2 n_body({std::cos(phi), std::sin(phi)});  // outward normal of the intruder
+        const Vec2 t = fp.consistent_traction(kHole, Point2(), phi);  // medium on intruder
+        const Vec2 e_phi({-n_body[1], n_body[0]});           // counter-clockwise tangent
+        so.sigma_n.push_back(-(t * n_body));  // > 0 compressive
+        so.sigma_t.push_back(t * e_phi);      // > 0 pulls the surface counter-clockwise
+      }
+      return so;
+    };
+    SurfaceOutputs so;
+    if (!corrected) {
+      so = collect(problem);
+    } else {
+      // First order throughout: the outputs are linear functionals of the residual, so they
+      // are taken as S(u_0; g) + dS/du . du, the derivative by a central difference along du
+      // (exact for the linear gravity terms; O(h^2) for the rheology, h = 1e-4).
+      const Vector<double> u0 = problem.solution();
+      Vector<double> du = corrected->solution();
+      du -= u0;
+      constexpr double h = 1e-4;
+      const auto at = [&](double t) {
+        corrected->solution() = u0;
+        corrected->solution().add(t, du);
+        return collect(*corrected);
+      };
+      const SurfaceOutputs s0 = at(0), sp = at(h), sm = at(-h);
+      const auto lin = [h](double v0, double vp, double vm) { return v0 + (vp - vm) / (2 * h); };
+      so = s0;
+      so.reac = {lin(s0.reac.fx, sp.reac.fx, sm.reac.fx), lin(s0.reac.fy, sp.reac.fy, sm.reac.fy),
+                 lin(s0.reac.torque, sp.reac.torque, sm.reac.torque)};
+      so.surf = {lin(s0.surf.fx, sp.surf.fx, sm.surf.fx), lin(s0.surf.fy, sp.surf.fy, sm.surf.fy),
+                 lin(s0.surf.torque, sp.surf.torque, sm.surf.torque)};
+      for (std::size_t k = 0; k < so.sigma_n.size(); ++k) {
+        so.sigma_n[k] = lin(s0.sigma_n[k], sp.sigma_n[k], sm.sigma_n[k]);
+        so.sigma_t[k] = lin(s0.sigma_t[k], sp.sigma_t[k], sm.sigma_t[k]);
+      }
+      corrected->solution() = u0;  // fields and VTU: the corrected state u_0 + du
+      corrected->solution() += du;
+    }
+    const auto& reac = so.reac;
+    const auto& surf = so.surf;
     out.fx = reac.fx;
     out.fy = reac.fy;
     out.torque = reac.torque;
     out.force_fx_surface = surf.fx;
     out.force_fy_surface = surf.fy;
     out.torque_surface = surf.torque;
+    out.sigma_n = so.sigma_n;
+    out.sigma_t = so.sigma_t;
     {
       std::ostringstream os;
       os << "continuum: force (" << reac.fx << ", " << reac.fy << ") N/m, torque " << reac.torque
          << " N [surface integral (" << surf.fx << ", " << surf.fy << "), " << surf.torque << "]";
       say(os.str());
-    }
-
-    // ---- surface stresses at theta measured from V counter-clockwise
-    const double phi0 = speed > 0 ? std::atan2(V[1], V[0]) : 0.0;
-    // from the consistent traction (the reaction forces spread by the boundary mass matrix),
-    // which converges like the forces; sigma(grad u_h).n at the wall converges at rate < 2
-    for (const double theta : c.surface_theta) {
-      const double phi = phi0 + theta;
-      const Vec2 n_body({std::cos(phi), std::sin(phi)});  // outward normal of the intruder
-      const Vec2 t = problem.consistent_traction(kHole, Point2(), phi);  // medium on intruder
-      const Vec2 e_phi({-n_body[1], n_body[0]});           // counter-clockwise tangent
-      out.sigma_n.push_back(-(t * n_body));              // > 0 compressive
-      out.sigma_t.push_back(t * e_phi);                  // > 0 pulls the surface counter-clockwise
     }
 
     // ---- fields on the grid (intruder frame, lab axes)
@@ -310,7 +404,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
           // fields are the point values at the bin centres
           const Point2 x(c.fields.x0 + (i + 0.5) * c.fields.spacing,
                          c.fields.y0 + (j + 0.5) * c.fields.spacing);
-          if (x.norm() < R || !problem.point_state(x, st)) continue;
+          if (x.norm() < R || !post.point_state(x, st)) continue;
           const std::size_t k = static_cast<std::size_t>(j) * c.fields.nx + i;
           out.vx[k] = st.velocity[0];
           out.vy[k] = st.velocity[1];
@@ -320,7 +414,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
           out.syy[k] = st.stress[1][1];
         }
     }
-    if (!c.vtu_directory.empty()) problem.output_results(c.vtu_directory, "continuum");
+    if (!c.vtu_directory.empty()) post.output_results(c.vtu_directory, "continuum");
   } catch (const ConfigError&) {
     throw;
   } catch (const std::exception& e) {

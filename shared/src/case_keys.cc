@@ -121,6 +121,13 @@ std::vector<KeySpec> make_keys() {
                    "strain-rate regularisation delta"));
   k.push_back(real("continuum.eta_max", false, "1e4", 0, 1e12, true, false, "Pa s",
                    "viscosity cap"));
+  k.push_back(real("continuum.pressure_smoothing", false, "0.0", 0, 1, false, false, "-",
+                   "p_eps / P0: with p_eps > 0 the rheology sees (p + sqrt(p^2 + p_eps^2)) / 2 "
+                   "instead of max(p, 0) (a Jacobian continuous where the pressure vanishes)"));
+  k.push_back(choice("continuum.gravity_treatment", "\"full\"", {"full", "linearised"},
+                     "full: nonlinear solve with gravity; linearised: the base state without "
+                     "gravity at P0 plus one linear solve for the O(D/h) gravity correction "
+                     "(Guillard 2014 appendix B)"));
   k.push_back(choice("continuum.wall", "\"no_slip\"", {"no_slip", "coulomb"},
                      "intruder surface condition"));
   k.push_back(real("continuum.wall_friction", false, "intruder.friction", 0, 10, false, false, "-",

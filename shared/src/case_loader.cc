@@ -363,6 +363,8 @@ Case build_case(const toml::table& r) {
   cn.regularisation = get_text(r, "continuum.regularisation", cn.regularisation);
   cn.delta = get_real(r, "continuum.delta", cn.delta);
   cn.eta_max = get_real(r, "continuum.eta_max", cn.eta_max);
+  cn.pressure_smoothing = get_real(r, "continuum.pressure_smoothing", cn.pressure_smoothing);
+  cn.gravity_treatment = get_text(r, "continuum.gravity_treatment", cn.gravity_treatment);
   cn.wall = get_text(r, "continuum.wall", cn.wall);
   cn.wall_friction = get_real(r, "continuum.wall_friction", in.friction);
   cn.inertia = get_text(r, "continuum.inertia", cn.inertia);

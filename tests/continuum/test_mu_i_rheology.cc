@@ -96,3 +96,32 @@ TEST(MuIRheology, BarkerGrayBranchIsC1AndVanishesAtZero) {
   EXPECT_LT(m.friction(1e-300), 0.1);
   EXPECT_GT(m.friction(1e-6), 0);
 }
+
+// Smoothed clamp p+ = (p + sqrt(p^2 + p_eps^2)) / 2: far from p = 0 (|p| = 1e3 p_eps) the
+// viscosity is that of the hard clamp within 1e-6 relative (p > 0) or tiny (p < 0: floored or
+// below 1e-6 of the p > 0 value); d eta / dp is continuous across p = 0 (left and right
+// derivatives at +-1e-9 p_eps agree to 1e-6) and matches central differences to 1e-6.
+TEST(MuIRheology, SmoothedPressureClampIsContinuousAtZero) {
+  RheologyParams prm;
+  prm.delta = 0.5;
+  prm.eta_max = 1e12;
+  prm.eta_min = 0;
+  RheologyParams hard = prm;
+  prm.pressure_smoothing = 1.0;  // Pa
+  const MuIRheology m(prm), mh(hard);
+  const double s = 4.0;
+  const Eval pos = eval(m, s, 1e3), pos_hard = eval(mh, s, 1e3);
+  EXPECT_NEAR(pos.eta, pos_hard.eta, 1e-6 * pos_hard.eta);
+  EXPECT_LT(eval(m, s, -1e3).eta, 1e-6 * pos.eta);
+  const Eval left = eval(m, s, -1e-9), right = eval(m, s, 1e-9);
+  EXPECT_GT(right.eta_p, 0);
+  EXPECT_NEAR(left.eta_p, right.eta_p, 1e-6 * right.eta_p);
+  for (const double p : {-3.0, -0.2, 0.0, 0.4, 7.0}) {
+    const double h = 1e-6;
+    const double fd = (eval(m, s, p + h).eta - eval(m, s, p - h).eta) / (2 * h);
+    EXPECT_NEAR(eval(m, s, p).eta_p, fd, 1e-6 * std::abs(fd) + 1e-12) << "p=" << p;
+  }
+  // the hard clamp jumps: d eta / dp is 0 just below 0 and finite just above
+  EXPECT_EQ(eval(mh, s, -1e-9).eta_p, 0.0);
+  EXPECT_GT(eval(mh, s, 1e-9).eta_p, 0.0);
+}

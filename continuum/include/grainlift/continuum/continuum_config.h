@@ -29,6 +29,9 @@ struct RheologyParams {
   /// I_N of Barker & Gray 2017: below it mu(I) = sqrt(alpha / ln(A / I)), with alpha and A set so
   /// that mu and dmu/dI are continuous at I_N. Used only with Regularisation::barker_gray.
   double barker_gray_IN = 1e-3;
+  /// Pa, p_eps: with p_eps > 0 the rheology sees p+ = (p + sqrt(p^2 + p_eps^2)) / 2 instead of
+  /// max(p, 0), so that d eta / d p is continuous where the pressure vanishes (0 = hard clamp).
+  double pressure_smoothing = 0;
 };
 
 /// Regular grid in the intruder frame on which fields are sampled (same meaning as the DEM's).
@@ -63,6 +66,10 @@ struct ContinuumConfig {
   /// Approach the requested problem through Chauchat-Medale stages with
   /// delta = 0.1, 0.01, ... x max(|V|, |omega| R) / R (> 2 delta), without inertia.
   bool continuation = true;
+  /// Gravity as a perturbation (Guillard 2014 appendix B): solve the base state without gravity
+  /// (uniform far-field pressure P0), then add the first-order correction from one linear solve
+  /// with the Newton Jacobian at the base state, J du = -R_g(u_0), R_g the residual with gravity.
+  bool linearised_gravity = false;
   // ---- numerics
   int refinement = 3;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;
@@ -89,6 +96,8 @@ struct ContinuumOutput {
   int picard_steps = 0, newton_steps = 0;  ///< split of nonlinear_iterations
   double initial_residual = 0;            ///< |R_0| (final_residual is |R_k| / |R_0|)
   bool inertia_used = false;              ///< whether rho (u.grad)u was included
+  double correction_seconds = 0;          ///< linearised gravity: time of the correction (setup + one solve)
+  int continuation_splits = 0;            ///< intermediate stages inserted after a failed stage
   double force_fx_surface = 0, force_fy_surface = 0, torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
   std::string message;                    ///< why it failed when !converged
 };

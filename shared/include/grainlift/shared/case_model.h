@@ -67,6 +67,8 @@ struct ContinuumSection {
   std::string regularisation = "chauchat_medale";
   double delta = 1e-3;          ///< 1/s
   double eta_max = 1e4;         ///< Pa s
+  double pressure_smoothing = 0;  ///< p_eps / P0 (0 = hard clamp max(p, 0))
+  std::string gravity_treatment = "full";  ///< "full" or "linearised"
   std::string wall = "no_slip";
   double wall_friction = 0;     ///< default: intruder.friction
   std::string inertia = "auto";

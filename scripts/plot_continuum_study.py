@@ -1,0 +1,282 @@
+#!/usr/bin/env python3
+"""Figures and tables of the continuum studies (scripts/study_continuum.sh).
+
+    plot_continuum_study.py RUN_DIR IMG_DIR
+
+Reads RUN_DIR/{split,mesh,delta,box,spin}/*/fem.h5 (the shared schema, docs/schema.md), writes
+PNG figures into IMG_DIR and prints the markdown tables of docs/results-continuum.md. Parts whose
+runs are missing are skipped with a note.
+"""
+import glob
+import math
+import os
+import re
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def load(path):
+    """Scalars and the surface distributions of one fem.h5."""
+    with h5py.File(path, "r") as f:
+        g = dict(f["geometry"].attrs)
+        m = dict(f["means"].attrs)
+        meta = dict(f["metadata"].attrs)
+        notes = meta["notes"].decode() if isinstance(meta["notes"], bytes) else str(meta["notes"])
+        r = {
+            "drag": float(m["drag"]),
+            "lift": float(m["lift"]),
+            "torque": float(m["torque"]),
+            "seconds": float(meta["wall_seconds"]),
+            "theta": f["surface/theta"][:],
+            "sigma_n": f["surface/sigma_n"][:],
+            "sigma_t": f["surface/sigma_t"][:],
+            "D": float(g["intruder_diameter"]),
+            "rho": float(g["bulk_density"]),
+            "g": math.hypot(float(g["gravity_x"]), float(g["gravity_y"])),
+            "P0": float(g["pressure_scale"]),
+            "V": math.hypot(float(g["velocity_x"]), float(g["velocity_y"])),
+            "omega": float(g["omega"]),
+            "notes": notes,
+        }
+    def note(key, conv=float):
+        mm = re.search(key + r" ([0-9.eE+-]+)", notes)
+        return conv(mm.group(1)) if mm else None
+    r["cells"] = note("cells", int)
+    r["dofs"] = note("dofs", int)
+    r["iterations"] = note("nonlinear iterations", int)
+    r["correction_s"] = note("linearised gravity correction")
+    r["splits"] = note("continuation splits", int)
+    return r
+
+
+def mirror_index(theta):
+    """Index of -theta on the grid (theta measured from V)."""
+    t = np.mod(theta, 2 * np.pi)
+    return np.array([int(np.argmin(np.abs(np.mod(-x, 2 * np.pi) - t))) for x in t])
+
+
+def split(values, theta):
+    j = mirror_index(theta)
+    return 0.5 * (values + values[j]), 0.5 * (values - values[j])
+
+
+def buoyancy(r):
+    return r["rho"] * r["g"] * math.pi * r["D"] ** 2 / 4
+
+
+def hydrostatic_weighting_lift(base, g, rho):
+    """Lift of the g = 0 normal stress weighted by the local hydrostatic pressure
+    (P0 - rho g R sin(theta)) / P0 (Guillard 2014's estimate, about 3.6 buoyancies in their DEM)."""
+    R = 0.5 * base["D"]
+    th = base["theta"]
+    w = (base["P0"] - rho * g * R * np.sin(th)) / base["P0"]
+    sn = base["sigma_n"] * w
+    dth = 2 * np.pi / len(th)
+    # the normal stress pushes on the surface along -n: force_y = -sum sigma_n sin(theta) R dtheta
+    return -np.sum(sn * np.sin(th)) * R * dth
+
+
+def part_split(run_dir, img_dir):
+    rows = []
+    for h in (4, 8, 16, 32):
+        paths = {k: os.path.join(run_dir, "split", f"{k}_h{h}", "fem.h5") for k in ("full", "linearised", "base")}
+        if not all(os.path.exists(p) for p in paths.values()):
+            print(f"(split: h = {h} D incomplete, skipped)")
+            continue
+        rows.append((h, {k: load(p) for k, p in paths.items()}))
+    if not rows:
+        print("(split: no runs)")
+        return
+    print("\n### Asymptotic split: (a) full nonlinear solve, (b) base state + one linear solve\n")
+    print("| h/D | eps | P0 (Pa) | C_d (a) | C_d (b) | L/B (a) | L/B (b) | (b)-(a) in L/B | drag base | "
+          "hydrostatic weighting L/B | time (a) | time (b) | of which correction |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for h, r in rows:
+        a, b, base = r["full"], r["linearised"], r["base"]
+        B = buoyancy(a)
+        P0 = base["P0"]
+        hw = hydrostatic_weighting_lift(base, a["g"], a["rho"]) / B
+        print(f"| {h} | 1/{h} | {P0:.4g} | {a['drag'] / (P0 * a['D']):.3f} | {b['drag'] / (P0 * a['D']):.3f} | "
+              f"{a['lift'] / B:.2f} | {b['lift'] / B:.2f} | {(b['lift'] - a['lift']) / B:+.2f} | "
+              f"{base['drag'] / (P0 * a['D']):.3f} | {hw:.2f} | {a['seconds']:.1f} s | {b['seconds']:.1f} s | "
+              f"{(b['correction_s'] or 0):.2f} s |")
+
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    hs = [h for h, _ in rows]
+    ax[0].plot(hs, [r["full"]["lift"] / buoyancy(r["full"]) for _, r in rows], "o-", label="(a) full nonlinear")
+    ax[0].plot(hs, [r["linearised"]["lift"] / buoyancy(r["full"]) for _, r in rows], "s--",
+               label="(b) base + linear correction")
+    ax[0].plot(hs, [hydrostatic_weighting_lift(r["base"], r["full"]["g"], r["full"]["rho"]) / buoyancy(r["full"])
+                    for _, r in rows], "^:", label="g = 0 stress x hydrostatic weight")
+    ax[0].set_xscale("log", base=2)
+    ax[0].set_xlabel("h / D")
+    ax[0].set_ylabel("lift / buoyancy")
+    ax[0].legend()
+    ax[0].set_title("lift against depth")
+    for key, style, lab in (("full", "o-", "(a)"), ("linearised", "s--", "(b)"), ("base", "^:", "no gravity")):
+        ax[1].plot(hs, [r[key]["drag"] / (r["base"]["P0"] * r["full"]["D"]) for _, r in rows], style, label=lab)
+    ax[1].set_xscale("log", base=2)
+    ax[1].set_xlabel("h / D")
+    ax[1].set_ylabel("drag / (P0 D)")
+    ax[1].legend()
+    ax[1].set_title("drag coefficient")
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_split_forces.png"), dpi=120)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
+    for h, r in rows:
+        base, a, b = r["base"], r["full"], r["linearised"]
+        th = np.degrees(base["theta"])
+        order = np.argsort(np.mod(th + 180, 360))
+        thp = (np.mod(th + 180, 360) - 180)[order]
+        ax[0].plot(thp, (base["sigma_n"] / base["P0"])[order], label=f"h = {h} D")
+        rgD = a["rho"] * a["g"] * a["D"]
+        da = (a["sigma_n"] - base["sigma_n"]) / rgD
+        db = (b["sigma_n"] - base["sigma_n"]) / rgD
+        sa, aa = split(da, a["theta"])
+        sb, ab = split(db, a["theta"])
+        line, = ax[2].plot(thp, aa[order], label=f"(a) h = {h} D")
+        ax[2].plot(thp, ab[order], "--", color=line.get_color())
+        line, = ax[1].plot(thp, sa[order], label=f"(a) h = {h} D")
+        ax[1].plot(thp, sb[order], "--", color=line.get_color())
+    ax[0].set_title("no gravity: sigma_n / P0 (symmetric part scales with P0)")
+    ax[1].set_title("symmetric part of (sigma_n - sigma_n(g=0)) / (rho g D)")
+    ax[2].set_title("antisymmetric part of (sigma_n - sigma_n(g=0)) / (rho g D)")
+    for x in ax:
+        x.set_xlabel("theta from V (deg)")
+        x.axhline(0, color="k", lw=0.5)
+        x.legend(fontsize=7)
+    ax[1].text(0.02, 0.02, "solid (a) full, dashed (b) linearised", transform=ax[1].transAxes, fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_split_sigma_n.png"), dpi=120)
+    plt.close(fig)
+
+
+def series(run_dir, sub, pattern, key_of):
+    out = []
+    for p in sorted(glob.glob(os.path.join(run_dir, sub, pattern, "fem.h5"))):
+        out.append((key_of(os.path.basename(os.path.dirname(p))), load(p)))
+    return sorted(out, key=lambda x: x[0])
+
+
+def part_mesh(run_dir, img_dir):
+    for kind in ("full", "linearised"):
+        rows = series(run_dir, "mesh", f"{kind}_r*", lambda n: int(n.split("_r")[1]))
+        if not rows:
+            print(f"(mesh {kind}: no runs)")
+            continue
+        print(f"\n### Mesh levels ({kind}), h = 8 D\n")
+        print("| refinement | cells | unknowns | drag / (P0 D) | L/B | nonlinear steps | time |")
+        print("|---|---|---|---|---|---|---|")
+        for lev, r in rows:
+            print(f"| {lev} | {r['cells']} | {r['dofs']} | {r['drag'] / (r['P0'] * r['D']):.4f} | "
+                  f"{r['lift'] / buoyancy(r):.3f} | {r['iterations']} | {r['seconds']:.1f} s |")
+    rows = series(run_dir, "mesh", "full_r*", lambda n: int(n.split("_r")[1]))
+    if len(rows) >= 2:
+        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+        lev = [x for x, _ in rows]
+        ax[0].plot(lev, [r["drag"] / (r["P0"] * r["D"]) for _, r in rows], "o-", label="drag / (P0 D)")
+        ax[0].plot(lev, [r["lift"] / buoyancy(r) for _, r in rows], "s-", label="lift / buoyancy")
+        lin = series(run_dir, "mesh", "linearised_r*", lambda n: int(n.split("_r")[1]))
+        if lin:
+            ax[0].plot([x for x, _ in lin], [r["lift"] / buoyancy(r) for _, r in lin], "s--",
+                       label="lift / buoyancy, (b)")
+        ax[0].set_xlabel("refinement level")
+        ax[0].legend()
+        ax[0].set_title("Guillard gradient case, h = 8 D")
+        ax[1].semilogy([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-")
+        ax[1].set_xscale("log")
+        ax[1].set_xlabel("unknowns")
+        ax[1].set_ylabel("wall time (s), one core")
+        ax[1].set_title("cost")
+        fig.tight_layout()
+        fig.savefig(os.path.join(img_dir, "continuum_mesh.png"), dpi=120)
+        plt.close(fig)
+
+
+def part_delta(run_dir, img_dir):
+    rows = series(run_dir, "delta", "delta_*", lambda n: float(n.split("_")[1]))
+    if not rows:
+        print("(delta: no runs)")
+        return
+    print("\n### Regularisation delta, refinement 2, h = 8 D\n")
+    print("| delta (1/s) | drag / (P0 D) | L/B | nonlinear steps | time |")
+    print("|---|---|---|---|---|")
+    for d, r in rows:
+        print(f"| {d:g} | {r['drag'] / (r['P0'] * r['D']):.4f} | {r['lift'] / buoyancy(r):.3f} | "
+              f"{r['iterations']} | {r['seconds']:.1f} s |")
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ds = [d for d, _ in rows]
+    ax.semilogx(ds, [r["drag"] / (r["P0"] * r["D"]) for _, r in rows], "o-", label="drag / (P0 D)")
+    ax.semilogx(ds, [r["lift"] / buoyancy(r) for _, r in rows], "s-", label="lift / buoyancy")
+    ax.set_xlabel("delta (1/s)")
+    ax.legend()
+    ax.set_title("regularisation, refinement 2, h = 8 D")
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_delta.png"), dpi=120)
+    plt.close(fig)
+
+
+def part_box(run_dir, img_dir):
+    rows = series(run_dir, "box", "box_x*", lambda n: float(n.split("_x")[1]))
+    if not rows:
+        print("(box: no runs)")
+        return
+    print("\n### FE box size, h = 16 D (half sizes f x [0.06, 0.04] m = f x [4, 2.67] D)\n")
+    print("| f | drag / (P0 D) | L/B | cells | time |")
+    print("|---|---|---|---|---|")
+    for f, r in rows:
+        print(f"| {f:g} | {r['drag'] / (r['P0'] * r['D']):.4f} | {r['lift'] / buoyancy(r):.3f} | {r['cells']} | "
+              f"{r['seconds']:.1f} s |")
+
+
+def part_spin(run_dir, img_dir):
+    walls = {}
+    for wall in ("no_slip", "coulomb"):
+        rows = series(run_dir, "spin", f"{wall}_omega*", lambda n: float(n.split("omega")[1]))
+        if rows:
+            walls[wall] = rows
+    if not walls:
+        print("(spin: no runs)")
+        return
+    print("\n### Spinning cylinder (Kumar geometry, P0 = 1000 Pa), L/D against Omega\n")
+    for wall, rows in walls.items():
+        print(f"{wall}: " + ", ".join(
+            f"Omega {r['omega'] * r['D'] / 2 / r['V']:g}: L/D {r['lift'] / r['drag']:+.3f} "
+            f"(drag {r['drag']:.0f} N/m, {r['seconds']:.0f} s)" for _, r in rows))
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    for wall, rows in walls.items():
+        om = [r["omega"] * r["D"] / 2 / r["V"] for _, r in rows]
+        ax.plot(om, [r["lift"] / r["drag"] for _, r in rows], "o-", label=f"mu(I), {wall} wall")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("Omega = omega R / V")
+    ax.set_ylabel("L / D")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_spin.png"), dpi=120)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    run_dir, img_dir = sys.argv[1:]
+    os.makedirs(img_dir, exist_ok=True)
+    part_split(run_dir, img_dir)
+    part_mesh(run_dir, img_dir)
+    part_delta(run_dir, img_dir)
+    part_box(run_dir, img_dir)
+    part_spin(run_dir, img_dir)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
+#   scripts/study_continuum.sh [split|mesh|delta|box|spin|plots|all] [OUT_DIR]
+# Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
+# intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
+#   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
+#          and the base states alone (no gravity, same P0)              ~15 min on one core
+#   mesh   refinement 0..3 at h = 8 D                                    ~10 min
+#   delta  regularisation delta at refinement 2, h = 8 D                 ~5 min
+#   box    FE box size at h = 16 D                                       ~5 min
+#   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
+#   plots  figures into docs/img from OUT_DIR
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PART=${1:-all}
+O=${2:-runs/continuum_study}
+G=${GRAINLIFT:-build/bin/grainlift}
+PY=${PYTHON:-/usr/bin/python3}
+CASE=cases/guillard2014/gradient.toml
+S=(--solver fem --quiet --threads 1 --set output.fields=false --set output.vtu=false
+   --set "domain.y_range=[-0.6,0.06]")
+BOX="continuum.box_half_size=[0.06,0.04]"
+D=0.015
+RHO_G=$(awk 'BEGIN { print 0.82 * 2.5 * 9.81 }')   # rho g of the case (2D units)
+ypos() { awk -v h="$1" -v D=$D 'BEGIN { printf "%.6g", 0.06 - h * D }'; }
+p0() { awk -v h="$1" -v D=$D -v rg="$RHO_G" 'BEGIN { printf "%.8g", rg * h * D }'; }
+
+run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rerun)
+  local dir="$O/$1"; shift
+  [[ -f "$dir/fem.h5" ]] && return 0
+  "$G" run "$CASE" "${S[@]}" "$@" --out "$dir" || echo "FAILED: $dir" | tee -a "$O/failures.txt"
+}
+
+part_split() {
+  for h in 4 8 16 32; do
+    local pos="intruder.position=[0.0,$(ypos $h)]"
+    run "split/full_h$h" --set "$BOX" --set "$pos"
+    run "split/linearised_h$h" --set "$BOX" --set "$pos" \
+      --set 'continuum.gravity_treatment="linearised"'
+    run "split/base_h$h" --set "$BOX" --set "$pos" --set "scene.gravity=[0.0,0.0]" \
+      --set "continuum.ambient_pressure=$(p0 $h)"
+  done
+}
+part_mesh() {
+  for r in 0 1 2 3; do
+    run "mesh/full_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+      --set continuum.refinement=$r
+    run "mesh/linearised_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+      --set continuum.refinement=$r --set 'continuum.gravity_treatment="linearised"'
+  done
+}
+part_delta() {
+  for d in 1e-1 1e-2 1e-3 1e-4; do
+    run "delta/delta_$d" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+      --set continuum.delta=$d
+  done
+}
+part_box() {
+  for f in 1 1.5 2 3; do
+    local b
+    b=$(awk -v f=$f 'BEGIN { printf "[%.4g,%.4g]", 0.06 * f, 0.04 * f }')
+    run "box/box_x$f" --set "continuum.box_half_size=$b" --set "intruder.position=[0.0,$(ypos 16)]"
+  done
+}
+part_spin() {
+  for wall in no_slip coulomb; do
+    for om in 0 10 20 40 80 200; do
+      local dir="$O/spin/${wall}_omega$om"
+      [[ -f "$dir/fem.h5" ]] && continue
+      "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
+        --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
+        --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om --out "$dir" ||
+        echo "FAILED: $dir" | tee -a "$O/failures.txt"
+    done
+  done
+}
+part_plots() {
+  "$PY" scripts/plot_continuum_study.py "$O" docs/img
+}
+
+mkdir -p "$O"
+case "$PART" in
+  split) part_split ;;
+  mesh) part_mesh ;;
+  delta) part_delta ;;
+  box) part_box ;;
+  spin) part_spin ;;
+  plots) part_plots ;;
+  all) part_split; part_mesh; part_delta; part_box; part_spin; part_plots ;;
+  *) echo "usage: $0 [split|mesh|delta|box|spin|plots|all] [OUT_DIR]" >&2; exit 2 ;;
+esac
