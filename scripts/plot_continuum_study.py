@@ -136,24 +136,23 @@ def part_split(run_dir, img_dir):
         th = np.degrees(base["theta"])
         order = np.argsort(np.mod(th + 180, 360))
         thp = (np.mod(th + 180, 360) - 180)[order]
-        ax[0].plot(thp, (base["sigma_n"] / base["P0"])[order], label=f"h = {h} D")
         rgD = a["rho"] * a["g"] * a["D"]
-        da = (a["sigma_n"] - base["sigma_n"]) / rgD
-        db = (b["sigma_n"] - base["sigma_n"]) / rgD
-        sa, aa = split(da, a["theta"])
-        sb, ab = split(db, a["theta"])
-        line, = ax[2].plot(thp, aa[order], label=f"(a) h = {h} D")
-        ax[2].plot(thp, ab[order], "--", color=line.get_color())
-        line, = ax[1].plot(thp, sa[order], label=f"(a) h = {h} D")
-        ax[1].plot(thp, sb[order], "--", color=line.get_color())
-    ax[0].set_title("no gravity: sigma_n / P0 (symmetric part scales with P0)")
-    ax[1].set_title("symmetric part of (sigma_n - sigma_n(g=0)) / (rho g D)")
-    ax[2].set_title("antisymmetric part of (sigma_n - sigma_n(g=0)) / (rho g D)")
+        sym_a, anti_a = split(a["sigma_n"], a["theta"])
+        sym_b, anti_b = split(b["sigma_n"], b["theta"])
+        line, = ax[0].plot(thp, (sym_a / base["P0"])[order], label=f"(a) h = {h} D")
+        ax[0].plot(thp, (base["sigma_n"] / base["P0"])[order], ":", color=line.get_color())
+        line, = ax[1].plot(thp, (anti_a / rgD)[order], label=f"(a) h = {h} D")
+        ax[1].plot(thp, (anti_b / rgD)[order], "--", color=line.get_color())
+        ax[2].plot(thp, ((sym_a - base["sigma_n"]) / rgD)[order], label=f"(a) h = {h} D")
+    ax[0].set_title("symmetric part of sigma_n / P0")
+    ax[0].text(0.02, 0.92, "solid (a) full, dotted no gravity", transform=ax[0].transAxes, fontsize=8)
+    ax[1].set_title("antisymmetric part of sigma_n / (rho g D)")
+    ax[1].text(0.02, 0.02, "solid (a) full, dashed (b) linearised", transform=ax[1].transAxes, fontsize=8)
+    ax[2].set_title("(a): symmetric part minus g = 0 stress, / (rho g D)")
     for x in ax:
         x.set_xlabel("theta from V (deg)")
         x.axhline(0, color="k", lw=0.5)
-        x.legend(fontsize=7)
-    ax[1].text(0.02, 0.02, "solid (a) full, dashed (b) linearised", transform=ax[1].transAxes, fontsize=8)
+        x.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
     fig.savefig(os.path.join(img_dir, "continuum_split_sigma_n.png"), dpi=120)
     plt.close(fig)
@@ -178,6 +177,14 @@ def part_mesh(run_dir, img_dir):
         for lev, r in rows:
             print(f"| {lev} | {r['cells']} | {r['dofs']} | {r['drag'] / (r['P0'] * r['D']):.4f} | "
                   f"{r['lift'] / buoyancy(r):.3f} | {r['iterations']} | {r['seconds']:.1f} s |")
+    ad = series(run_dir, "mesh", "adaptive_a*", lambda n: int(n.split("_a")[-1]))
+    if ad:
+        print("\n### Adaptive cycles from refinement 1, h = 8 D\n")
+        print("| cycles | cells | unknowns | drag / (P0 D) | L/B | nonlinear steps | time |")
+        print("|---|---|---|---|---|---|---|")
+        for lev, r in ad:
+            print(f"| {lev} | {r['cells']} | {r['dofs']} | {r['drag'] / (r['P0'] * r['D']):.4f} | "
+                  f"{r['lift'] / buoyancy(r):.3f} | {r['iterations']} | {r['seconds']:.1f} s |")
     rows = series(run_dir, "mesh", "full_r*", lambda n: int(n.split("_r")[1]))
     if len(rows) >= 2:
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
@@ -191,7 +198,13 @@ def part_mesh(run_dir, img_dir):
         ax[0].set_xlabel("refinement level")
         ax[0].legend()
         ax[0].set_title("Guillard gradient case, h = 8 D")
-        ax[1].semilogy([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-")
+        ax[1].semilogy([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-", label="uniform")
+        if ad:
+            ax[1].semilogy([r["dofs"] for _, r in ad], [r["seconds"] for _, r in ad], "s--", label="adaptive")
+            ax[0].plot([1 + 0.5 * k for k, _ in ad], [r["drag"] / (r["P0"] * r["D"]) for _, r in ad], "x",
+                       color="C0", label="adaptive (x at 1 + cycles/2)")
+            ax[0].plot([1 + 0.5 * k for k, _ in ad], [r["lift"] / buoyancy(r) for _, r in ad], "x", color="C1")
+        ax[1].legend()
         ax[1].set_xscale("log")
         ax[1].set_xlabel("unknowns")
         ax[1].set_ylabel("wall time (s), one core")

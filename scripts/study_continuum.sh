@@ -5,7 +5,7 @@
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
 #          and the base states alone (no gravity, same P0)              ~15 min on one core
-#   mesh   refinement 0..3 at h = 8 D                                    ~10 min
+#   mesh   refinement 0..3 at h = 8 D, and 1..3 adaptive cycles from 1   ~20 min
 #   delta  regularisation delta at refinement 2, h = 8 D                 ~5 min
 #   box    FE box size at h = 16 D                                       ~5 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
@@ -47,6 +47,10 @@ part_mesh() {
       --set continuum.refinement=$r
     run "mesh/linearised_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
       --set continuum.refinement=$r --set 'continuum.gravity_treatment="linearised"'
+  done
+  for a in 1 2 3; do
+    run "mesh/adaptive_a$a" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+      --set continuum.refinement=1 --set continuum.adaptive_cycles=$a
   done
 }
 part_delta() {

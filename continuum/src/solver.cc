@@ -2,7 +2,12 @@
 // FlowProblem engine. Conventions: docs/continuum-model.md (theta from V, counter-clockwise).
 #include "grainlift/continuum/solver.h"
 
+#include <deal.II/fe/fe_values_extractors.h>
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_refinement.h>
+#include <deal.II/numerics/error_estimator.h>
+#include <deal.II/numerics/solution_transfer.h>
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/grid/manifold_lib.h>
 #include <deal.II/grid/tria.h>
 
@@ -144,7 +149,7 @@ void validate_config(const ContinuumConfig& c) {
   require(c.wall_slip_regularisation >= 0, "wall_slip_regularisation must be >= 0");
   require(c.inertia_threshold >= 0, "inertia_threshold must be >= 0");
   require(c.refinement >= 0 && c.refinement <= 7, "refinement must be in [0, 7]");
-  require(c.adaptive_cycles == 0, "adaptive_cycles > 0 is not implemented (use refinement)");
+  require(c.adaptive_cycles >= 0 && c.adaptive_cycles <= 5, "adaptive_cycles must be in [0, 5]");
   require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1, "nonlinear_tolerance must be in (0, 1)");
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
   require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
@@ -236,9 +241,11 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     // step for some problems (e.g. low P0 with an opening behind the intruder at refinement 2).
     const double gamma_ref = std::max(vref, 1e-12) / R;
     struct Stage { double delta; bool final; };
-    std::deque<Stage> todo;
+    std::vector<double> schedule;  // the intermediate deltas
     for (double delta = 0.1 * gamma_ref; c.continuation && delta > 2 * c.rheology.delta; delta *= 0.1)
-      todo.push_back({delta, false});
+      schedule.push_back(delta);
+    std::deque<Stage> todo;
+    for (const double delta : schedule) todo.push_back({delta, false});
     todo.push_back({c.rheology.delta, true});
     constexpr int kMaxSplits = 6, kStageIterations = 20;
     int splits = 0, stage_number = 0;
@@ -248,6 +255,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     FlowProblem problem(tria, setup);
     problem.setup_system();
     problem.interpolate_initial_guess();
+    const auto run_stages = [&]() {
     while (!todo.empty()) {
       const Stage st = todo.front();
       internal::NonlinearSettings nl = setup.nonlinear;
@@ -287,6 +295,41 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       }
       if (problem.report().converged) done_delta = st.delta;
       todo.pop_front();
+    }
+    };
+    run_stages();
+
+    // ---- adaptive refinement: Kelly's indicator (jump of the velocity gradient across faces,
+    // weighted by the face size) marks the 30% of the cells with the largest values; the
+    // solution is carried over to the refined mesh and the problem solved again from it
+    for (int cycle = 0; cycle < c.adaptive_cycles && problem.report().converged; ++cycle) {
+      Vector<float> indicator(tria.n_active_cells());
+      const FEValuesExtractors::Vector velocity(0);
+      KellyErrorEstimator<internal::dim>::estimate(
+          problem.mapping(), problem.dof_handler(), QGauss<internal::dim - 1>(3), {},
+          problem.solution(), indicator,
+          problem.dof_handler().get_fe().component_mask(velocity));
+      GridRefinement::refine_and_coarsen_fixed_number(tria, indicator, 0.3, 0.0);
+      SolutionTransfer<internal::dim> transfer(problem.dof_handler());
+      const Vector<double> old_solution = problem.solution();
+      tria.prepare_coarsening_and_refinement();
+      transfer.prepare_for_coarsening_and_refinement(old_solution);
+      tria.execute_coarsening_and_refinement();
+      problem.setup_system();
+      transfer.interpolate(old_solution, problem.solution());
+      problem.nonzero_constraints().distribute(problem.solution());
+      std::ostringstream os;
+      os << "continuum: adaptive cycle " << cycle + 1 << " of " << c.adaptive_cycles << ": "
+         << tria.n_active_cells() << " cells, " << problem.dof_handler().n_dofs() << " dofs";
+      say(os.str());
+      // the transferred state is not a converged state of the finer mesh: approach it again
+      // from the last intermediate stage (the final delta directly can stall)
+      if (!schedule.empty()) {
+        todo.push_back({schedule.back(), false});
+        done_delta = -1;
+      }
+      todo.push_back({c.rheology.delta, true});
+      run_stages();
     }
     out.continuation_splits = splits;
     // ---- linearised gravity: one Newton step from the base state of the problem with gravity

@@ -139,8 +139,9 @@ std::vector<KeySpec> make_keys() {
   k.push_back(integer("continuum.refinement", "2", 0, 7,
                       "global refinement level of the mesh (3 and above: lift not yet reliable, "
                       "see docs/continuum-model.md)"));
-  k.push_back(integer("continuum.adaptive_cycles", "0", 0, 0,
-                      "adaptive refinement cycles (not implemented yet: only 0)"));
+  k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
+                      "adaptive refinement cycles after the first solve: each refines the 30% "
+                      "of the cells with the largest Kelly indicator of the velocity"));
   k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));
