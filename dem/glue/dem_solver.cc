@@ -148,7 +148,9 @@ RunResult to_result(const Case& c, const DemOutput& out) {
       "steps {}, pressure_scale {}",
       out.grains, out.wall_grains, out.achieved_area_fraction,
       out.packing_from_cache ? "reused from cache" : "prepared", out.collision_time, out.steps,
-      stated > 0 ? "= lid + lithostatic pressure at the centre" : "= drag / D");
+      stated == 0                   ? "= drag / D"
+      : c.domain.lid_pressure > 0 ? "= lid pressure + lithostatic pressure at the centre"
+                                    : "= lithostatic pressure at the centre");
   if (r.lid) {
     r.meta.notes += fmt::format(
         "; lid: target {:.6g} Pa, mean {:.6g} +- {:.2g} Pa after the steady start, lid height "
