@@ -105,7 +105,7 @@ Window window(const gd::DemOutput& out, double t0, double t1, double mu, double 
 //  * early (the first 0.25 d of travel, Omega(t) < 0.25) the forces are those of the
 //    non-spinning run: lift and torque differ from it by less than 5% of the drag and of the
 //    Coulomb bound respectively;
-//  * after the ramp (travel 12 d to 30 d) the lift points along -omega x V (Kumar 2019 Sec. III):
+//  * after the ramp (travel 12 d to 22 d) the lift points along -omega x V (Kumar 2019 Sec. III):
 //    L < -0.1 D (Kumar: L/D -> kappa mu - (1 - kappa)/mu ~ -0.25 at high Omega), and most
 //    contacts slide against the spin: torque < -0.5 mu R sum F_N; without spin the torque is
 //    small: |torque| < 0.25 mu R sum F_N.
@@ -114,7 +114,7 @@ TEST(SpinRamp, LiftAndTorqueFollowTheSpin) {
   const double d = c.grain_diameter, R = 0.5 * c.intruder_diameter, V = 1.0, mu = 0.5;
   c.intruder_omega = 10.0 * V / R;
   c.spin_ramp_time = 10 * d / V;
-  c.travel = 30;
+  c.travel = 22;
   c.steady_travel = 0;
   c.sample_every = 10;
   const auto spin = gd::run_simulation(c);
