@@ -116,19 +116,49 @@ RunResult to_result(const Case& c, const DemOutput& out) {
     r.fields = std::move(g);
   }
 
+  if (!out.lid.empty()) {
+    LidSeries l;
+    std::vector<double> steady;
+    for (std::size_t i = 0; i < out.lid.size(); ++i) {
+      l.time.push_back(out.lid[i].time);
+      l.y.push_back(out.lid[i].y);
+      l.pressure.push_back(out.lid[i].pressure);
+      if (i >= out.steady_start_index) steady.push_back(out.lid[i].pressure);
+    }
+    l.target = c.domain.lid_pressure;
+    l.mass = out.lid_mass;
+    l.damping = out.lid_damping;
+    if (!steady.empty()) {
+      const BlockMean b = block_mean(steady, std::size_t(c.output.blocks));
+      l.mean = b.mean;
+      if (std::isfinite(b.stderr_)) l.mean_stderr = b.stderr_;
+    }
+    r.lid = std::move(l);
+  }
+
   r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
-  // Pressure scale: the lithostatic pressure at the intruder under gravity, else the
-  // mean drag per unit projected area D / diameter (a measured dynamic pressure).
-  q.pressure_scale = c.lithostatic_pressure() > 0
-                         ? c.lithostatic_pressure()
-                         : (r.means ? std::abs(r.means->drag) / c.intruder.diameter : 0.0);
+  // Pressure scale: the lid pressure plus the lithostatic pressure at the intruder (either may
+  // be 0), else the mean drag per unit projected area D / diameter (a measured dynamic pressure).
+  const double stated = c.domain.lid_pressure + c.lithostatic_pressure();
+  q.pressure_scale =
+      stated > 0 ? stated : (r.means ? std::abs(r.means->drag) / c.intruder.diameter : 0.0);
   r.meta.notes = fmt::format(
       "grains {} (walls {}), area fraction {:.4f}, packing {}, collision time {:.3g} s, "
       "steps {}, pressure_scale {}",
       out.grains, out.wall_grains, out.achieved_area_fraction,
       out.packing_from_cache ? "reused from cache" : "prepared", out.collision_time, out.steps,
-      c.lithostatic_pressure() > 0 ? "= lithostatic pressure at the centre" : "= drag / D");
+      stated == 0                   ? "= drag / D"
+      : c.domain.lid_pressure > 0 ? "= lid pressure + lithostatic pressure at the centre"
+                                    : "= lithostatic pressure at the centre");
+  if (r.lid) {
+    r.meta.notes += fmt::format(
+        "; lid: target {:.6g} Pa, mean {:.6g} +- {:.2g} Pa after the steady start, lid height "
+        "{:.6g} -> {:.6g} m, mass {:.3g} kg, damping {:.3g} kg/s",
+        r.lid->target, r.lid->mean, r.lid->mean_stderr.value_or(0.0),
+        r.lid->y.empty() ? 0.0 : r.lid->y.front(), r.lid->y.empty() ? 0.0 : r.lid->y.back(),
+        r.lid->mass, r.lid->damping);
+  }
   return r;
 }
 
@@ -146,6 +176,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.wall_top = c.domain.wall_top;
   d.wall_left = c.domain.wall_left;
   d.wall_right = c.domain.wall_right;
+  d.lid_pressure = c.domain.lid_pressure;  // Pa in the 2D reading = N/m of the engine's forces
   d.gravity = c.scene.gravity;
   d.grain_diameter = c.grains.diameter;
   d.polydispersity = c.grains.polydispersity;

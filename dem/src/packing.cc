@@ -28,6 +28,15 @@ constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '1'};
 constexpr double kInsertPhi = 0.3;       // area fraction of the reduced-radius insertion
 constexpr double kGrowthPerStep = 2e-5;  // radius growth per step, in mean diameters
 constexpr long kMaxRelaxSteps = 400000;
+// The frictionless relaxation after the radius growth stops at max(relax_ke, this) (J per grain):
+// it only has to let the compressed packing find a force balance. Below it, a frictionless bed
+// under gravity keeps creeping and its kinetic energy decays ~10 times slower than with friction
+// (docs/dem-model.md); the frictional relaxation then goes down to relax_ke.
+constexpr double kFrictionlessRelaxKe = 1e-9;
+
+double frictionless_relax_ke(const DemConfig& c) {
+  return std::max(c.relax_ke_per_grain, kFrictionlessRelaxKe);
+}
 
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
@@ -139,13 +148,13 @@ DemSystem make_system(const DemConfig& c) {
   return DemSystem(o);
 }
 
-/// Run with drag until the mean kinetic energy per grain is below the threshold.
-void relax(DemSystem& s, const DemConfig& c, double damping_rate) {
+/// Run with drag until the mean kinetic energy per grain is below ke_per_grain (J).
+void relax(DemSystem& s, double ke_per_grain, double damping_rate) {
   s.set_background_damping(damping_rate);
   const int n = std::max(1, s.grains());
   for (long k = 0; k < kMaxRelaxSteps; ++k) {
     s.step();
-    if (k % 100 == 99 && s.kinetic_energy() / n < c.relax_ke_per_grain) break;
+    if (k % 100 == 99 && s.kinetic_energy() / n < ke_per_grain) break;
   }
 }
 
@@ -272,6 +281,13 @@ std::uint64_t packing_hash(const DemConfig& c) {
   }
   hash_value(h, static_cast<int>(c.contact.law));
   hash_value(h, c.seed);
+  // Beds made with relax_ke >= kFrictionlessRelaxKe keep their key (their preparation did not
+  // change); below it the frictionless stage stops earlier than it used to: a new key.
+  if (frictionless_relax_ke(c) != c.relax_ke_per_grain) {
+    const char stage[] = "frictionless-relax-ke";
+    hash_bytes(h, stage, sizeof stage);
+    hash_value(h, frictionless_relax_ke(c));
+  }
   return h;
 }
 
@@ -346,11 +362,11 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
     read_back(s, x, y, rr);
     s.set_bodies(grains_of(c, x, y, r), walls);  // exact final radii
     s.set_friction(0, 0);
-    relax(s, c, damping);
+    relax(s, frictionless_relax_ke(c), damping);
     s.set_friction(c.contact.friction, c.contact.intruder_friction);
   }
   report(0.7);
-  relax(s, c, damping);
+  relax(s, c.relax_ke_per_grain, damping);
   read_back(s, x, y, r);
 
   if (phi < phi_pack) {
@@ -376,7 +392,7 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
       }
     }
     s.set_bodies(grains_of(c, x2, y2, r2), walls);
-    relax(s, c, damping);
+    relax(s, c.relax_ke_per_grain, damping);
     read_back(s, x, y, r);
   }
   report(0.95);

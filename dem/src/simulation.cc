@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/field_accumulator.h"
+#include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
 
 namespace grainlift::dem {
@@ -65,6 +67,15 @@ double validate_config(const DemConfig& c) {
   }
   if (!(c.relax_ke_per_grain > 0)) {
     refuse("relax_ke_per_grain = " + str(c.relax_ke_per_grain) + " J: need > 0");
+  }
+  if (!(c.lid_pressure >= 0) || !std::isfinite(c.lid_pressure) || !(c.lid_mass >= 0) ||
+      !(c.lid_damping >= 0)) {
+    refuse("lid_pressure = " + str(c.lid_pressure) + " N/m, lid_mass = " + str(c.lid_mass) +
+           " kg, lid_damping = " + str(c.lid_damping) + " kg/s: need all >= 0 and finite");
+  }
+  if (c.lid_pressure > 0 && (!c.wall_top || c.periodic_y)) {
+    refuse("lid_pressure = " + str(c.lid_pressure) +
+           " N/m needs a top wall (the lid) and a box that is not periodic in y");
   }
   if (c.fields.enabled && (!(c.fields.spacing > 0) || c.fields.nx < 1 || c.fields.ny < 1)) {
     refuse("field grid: spacing = " + str(c.fields.spacing) + " m, nx = " + str(c.fields.nx) +
@@ -126,7 +137,13 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter,
                  c.intruder_velocity[0], c.intruder_velocity[1], c.intruder_omega,
                  c.spin_ramp_time);
-  s.set_store_pair_forces(c.fields.enabled);  // only the contact stress reads them
+  s.set_store_pair_forces(c.fields.enabled);  // only the contact stress (and the lid) read them
+  std::unique_ptr<PressureLid> lid;
+  if (c.lid_pressure > 0) {
+    lid = std::make_unique<PressureLid>(c, s);
+    out.lid_mass = lid->mass();
+    out.lid_damping = lid->damping();
+  }
   s.prepare();
   const double ov0 = s.current_max_overlap_fraction();
   if (ov0 > c.max_overlap_fraction) {
@@ -149,8 +166,10 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
 
   for (long long k = 1; k <= n_steps; ++k) {
     s.step();
+    if (lid) lid->advance(s);
     const double t = s.time();
     if (k % c.sample_every == 0) {
+      if (lid) out.lid.push_back({t, lid->state().y, lid->state().pressure});
       IntruderSample smp;
       smp.time = t;
       smp.fx = s.intruder_fx();

@@ -46,6 +46,12 @@ std::vector<KeySpec> make_keys() {
   k.push_back({"domain.walls", KeyType::text_list, false, "[]", 0, 0, false, false,
                {"bottom", "top", "left", "right"}, "-",
                "box edges closed by walls of frozen grains (not on a periodic direction)", ""});
+  k.push_back(real("domain.lid_pressure", false, "0.0", 0, 1e9, false, false, "Pa",
+                   "DEM: confining pressure P on the top wall, which becomes a rigid lid moving "
+                   "in y and pushed down with P times the box width (2D reading as for "
+                   "grains.density: force per unit depth per unit lid length, N/m per m; "
+                   "rho g h with rho = Phi rho_s gives the lithostatic value); 0 = fixed top "
+                   "wall; > 0 needs the \"top\" wall and domain.periodic[1] = false"));
   // [intruder]
   k.push_back(real("intruder.diameter", true, "", 0, 1e3, true, false, "m", "intruder diameter D"));
   k.push_back(vec2("intruder.position", false, "[0.0, 0.0]", -1e4, 1e4, "m",

@@ -273,6 +273,11 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
     diag.error(where("domain.walls"), "walls 'left'/'right' need domain.periodic[0] = false");
   if (d.periodic[1] && (d.wall_bottom || d.wall_top))
     diag.error(where("domain.walls"), "walls 'bottom'/'top' need domain.periodic[1] = false");
+  if (d.lid_pressure > 0 && (!d.wall_top || d.periodic[1]))
+    diag.error(where("domain.lid_pressure"),
+               fmt::format("domain.lid_pressure = {} Pa needs the \"top\" wall in domain.walls "
+                           "(it becomes the lid) and domain.periodic[1] = false",
+                           d.lid_pressure));
   const auto& in = c.intruder;
   const double R = 0.5 * in.diameter;
   if (in.position[0] < d.x_range[0] || in.position[0] > d.x_range[1] ||
@@ -323,6 +328,7 @@ Case build_case(const toml::table& r) {
       c.domain.wall_left |= w == "left";
       c.domain.wall_right |= w == "right";
     }
+  c.domain.lid_pressure = get_real(r, "domain.lid_pressure", 0);
   auto& g = c.grains;
   g.diameter = get_real(r, "grains.diameter", 0);
   g.polydispersity = get_real(r, "grains.polydispersity", 0.1);

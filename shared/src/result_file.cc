@@ -154,6 +154,18 @@ void write_body(hid_t file, const RunResult& r) {
     dataset_doubles(g, "torque", f.torque, "N");
     if (!f.contacts.empty()) dataset_doubles(g, "contacts", f.contacts, "1");
   }
+  if (r.lid) {
+    const LidSeries& l = *r.lid;
+    Handle g = make_group(file, "lid");
+    dataset_doubles(g, "time", l.time, "s");
+    dataset_doubles(g, "y", l.y, "m");
+    dataset_doubles(g, "pressure", l.pressure, "Pa");
+    attr_number(g, "target", l.target);
+    attr_number(g, "mean", l.mean);
+    if (l.mean_stderr) attr_number(g, "mean_stderr", *l.mean_stderr);
+    attr_number(g, "mass", l.mass);
+    attr_number(g, "damping", l.damping);
+  }
   if (r.means) {
     const MeanForces& m = *r.means;
     Handle g = make_group(file, "means");
@@ -306,6 +318,19 @@ RunResult read_body(hid_t file) {
     f.torque = read_doubles(g, "torque");
     if (exists(g, "contacts")) f.contacts = read_doubles(g, "contacts");
     r.forces = std::move(f);
+  }
+  if (exists(file, "lid")) {
+    Handle g(H5Gopen2(file, "lid", H5P_DEFAULT), H5Gclose);
+    LidSeries l;
+    l.time = read_doubles(g, "time");
+    l.y = read_doubles(g, "y");
+    l.pressure = read_doubles(g, "pressure");
+    l.target = read_attr_double(g, "target");
+    l.mean = read_attr_double(g, "mean");
+    l.mean_stderr = read_attr_optional(g, "mean_stderr");
+    l.mass = read_attr_double(g, "mass");
+    l.damping = read_attr_double(g, "damping");
+    r.lid = std::move(l);
   }
   if (exists(file, "means")) {
     Handle g(H5Gopen2(file, "means", H5P_DEFAULT), H5Gclose);

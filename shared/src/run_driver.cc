@@ -59,6 +59,11 @@ JsonObject summary_object(const RunResult& r) {
     o.add("buoyancy", buoyancy);
     o.add("lift_over_buoyancy", r.means->lift / buoyancy);
   }
+  if (r.lid) {
+    o.add("lid_pressure_target", r.lid->target);
+    o.add("lid_pressure_mean", r.lid->mean);
+    o.add("lid_pressure_stderr", r.lid->mean_stderr);
+  }
   o.add("pressure_scale", r.geometry.pressure_scale);
   o.add("wall_seconds", r.meta.wall_seconds);
   o.add("threads", r.meta.threads);

@@ -145,6 +145,21 @@ TEST(CaseLoader, CrossChecksGeometryAndRun) {
   // averaging must start before the end
   e = error_of(base, {"dem.travel=20.0", "dem.steady_travel=30.0"});
   EXPECT_TRUE(contains(e, "must be less than dem.travel")) << e;
+  // a pressure lid needs the top wall (it becomes the lid), named with the key's line
+  std::string no_top = base;
+  const std::string walls = "walls = [\"bottom\", \"top\"]\n";
+  no_top.replace(no_top.find(walls), walls.size(), "walls = [\"bottom\"]\nlid_pressure = 100.0\n");
+  e = error_of(no_top);
+  EXPECT_TRUE(contains(e, "case.toml:7: domain.lid_pressure = 100 Pa needs the \"top\" wall")) << e;
+  e = error_of(base, {"domain.lid_pressure=-1.0"});
+  EXPECT_TRUE(contains(e, "'domain.lid_pressure' = -1 is out of range (accepted: [0, 1e+09] Pa)"))
+      << e;
+}
+
+// Physics: none; a lid pressure on a case with the top wall is accepted and read in Pa.
+TEST(CaseLoader, LidPressureIsRead) {
+  const auto c = grainlift::parse_case(base, "case.toml", {"domain.lid_pressure=1.2066"});
+  EXPECT_DOUBLE_EQ(c.domain.lid_pressure, 1.2066);
 }
 
 TEST(CaseLoader, InvalidTomlNamesLineAndColumn) {

@@ -64,6 +64,18 @@ RunResult full_result(std::size_t n_samples = 100) {
   m.samples = 90;
   m.blocks = 10;
   r.means = m;
+  LidSeries lid;
+  for (int k = 0; k < 5; ++k) {
+    lid.time.push_back(0.01 * k);
+    lid.y.push_back(0.06 - 1e-5 * k);
+    lid.pressure.push_back(1.2 + 0.01 * k);
+  }
+  lid.target = 1.2066;
+  lid.mean = 1.21;
+  lid.mean_stderr = 0.003;
+  lid.mass = 0.04;
+  lid.damping = 1.5;
+  r.lid = lid;
   SurfaceDistribution s;
   for (int k = 0; k < 8; ++k) {
     s.theta.push_back(k * 0.7);
@@ -124,6 +136,17 @@ void expect_equal(const RunResult& a, const RunResult& b) {
     EXPECT_EQ(a.histogram->slip_fraction, b.histogram->slip_fraction);
   }
   ASSERT_EQ(a.fields.has_value(), b.fields.has_value());
+  ASSERT_EQ(a.lid.has_value(), b.lid.has_value());
+  if (a.lid) {
+    EXPECT_EQ(a.lid->time, b.lid->time);
+    EXPECT_EQ(a.lid->y, b.lid->y);
+    EXPECT_EQ(a.lid->pressure, b.lid->pressure);
+    EXPECT_EQ(a.lid->target, b.lid->target);
+    EXPECT_EQ(a.lid->mean, b.lid->mean);
+    EXPECT_EQ(a.lid->mean_stderr, b.lid->mean_stderr);
+    EXPECT_EQ(a.lid->mass, b.lid->mass);
+    EXPECT_EQ(a.lid->damping, b.lid->damping);
+  }
 }
 
 }  // namespace
@@ -155,6 +178,7 @@ TEST(ResultFile, AbsentBlocksAreNotWritten) {
   r.means->contacts.reset();
   r.histogram.reset();
   r.fields.reset();
+  r.lid.reset();
   const auto path = scratch("fem.h5").string();
   write_result(path, r);
   const RunResult back = read_result(path);
@@ -163,6 +187,7 @@ TEST(ResultFile, AbsentBlocksAreNotWritten) {
   EXPECT_FALSE(back.means->drag_stderr.has_value());
   EXPECT_FALSE(back.histogram.has_value());
   EXPECT_FALSE(back.fields.has_value());
+  EXPECT_FALSE(back.lid.has_value());
 }
 
 TEST(ResultFile, NonGrainliftFilesAreInputErrors) {

@@ -46,6 +46,12 @@ struct DemConfig {
   /// Frozen-disk walls (disks of the mean diameter, centres d/2 inside the box edge).
   bool wall_bottom = false, wall_top = false, wall_left = false, wall_right = false;
   std::array<double, 2> gravity{0, 0};  ///< m/s^2
+  /// Pressure-controlled lid (lid.h): > 0 makes the top wall a rigid lid pushed down with
+  /// lid_pressure * (xmax - xmin). N/m in the engine's units (force per lid length; the glue's
+  /// 2D reading: Pa). 0: the top wall is fixed. Needs wall_top and !periodic_y.
+  double lid_pressure = 0;
+  double lid_mass = 0;     ///< kg; 0 = PressureLid::default_mass (the mass of the bed)
+  double lid_damping = 0;  ///< kg/s; 0 = PressureLid::default_damping (critical)
 
   // ---- grains
   double grain_diameter = 0.02;   ///< m, mean

@@ -33,6 +33,13 @@ struct FieldAverages {
   std::vector<double> sxx, sxy, syy;            ///< Pa*m (2D stress, N/m), contact stress, compressive negative
 };
 
+/// The pressure-controlled lid at one force-sample time (DemConfig::lid_pressure > 0).
+struct LidSample {
+  double time = 0;      ///< s
+  double y = 0;         ///< m, height of the lid disks' centres
+  double pressure = 0;  ///< N/m, force of the grains on the lid / box width
+};
+
 struct DemOutput {
   std::vector<IntruderSample> samples;
   std::vector<IntruderContact> contacts;  ///< after steady_start_index only
@@ -44,6 +51,8 @@ struct DemOutput {
   double collision_time = 0;              ///< s, binary collision time used for the dt check
   bool packing_from_cache = false;
   long long steps = 0;
+  std::vector<LidSample> lid;             ///< one per force sample; empty without a lid
+  double lid_mass = 0, lid_damping = 0;   ///< kg, kg/s: the lid actually used
 };
 
 }  // namespace grainlift::dem

@@ -103,6 +103,12 @@ class DemSystem {
   void set_store_pair_forces(bool on) { store_pair_forces_ = on; }
   /// @brief Set every grain velocity and angular velocity to zero.
   void zero_velocities();
+  /// @brief Move the frozen disks with particle indices [begin, end) by dy (m) and give them
+  /// the velocity (0, vy) (m/s) in the contact law (the pressure lid; defined in lid.cc).
+  void move_frozen(int begin, int end, double dy, double vy);
+  /// @brief y force (N) of the grains on the frozen disks [begin, end) at the last step, from
+  /// the stored pair forces (set_store_pair_forces(true) is needed; defined in lid.cc).
+  double frozen_force_y(int begin, int end) const;
 
   // ---- measurements
   double time() const { return time_; }

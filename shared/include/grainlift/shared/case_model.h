@@ -20,6 +20,7 @@ struct DomainSection {
   Vec2 x_range{0, 0}, y_range{0, 0};  ///< m
   std::array<bool, 2> periodic{true, false};
   bool wall_bottom = false, wall_top = false, wall_left = false, wall_right = false;
+  double lid_pressure = 0;  ///< Pa (2D reading), confining pressure on the top-wall lid; 0 = fixed wall
 };
 
 struct IntruderSection {

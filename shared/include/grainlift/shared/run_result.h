@@ -56,6 +56,17 @@ struct MeanForces {
   std::int64_t blocks = 0;                      ///< blocks used for the standard errors
 };
 
+/// The DEM's pressure-controlled lid (domain.lid_pressure > 0) against time.
+struct LidSeries {
+  std::vector<double> time;      ///< s
+  std::vector<double> y;         ///< m, height of the lid disks' centres
+  std::vector<double> pressure;  ///< Pa (2D reading), force of the grains on the lid / box width
+  double target = 0;             ///< Pa, domain.lid_pressure
+  double mean = 0;               ///< Pa, mean pressure after the steady-state start
+  std::optional<double> mean_stderr;  ///< Pa, block-average standard error of mean
+  double mass = 0, damping = 0;  ///< kg (per unit depth), kg/s: the lid's equation of motion
+};
+
 /// Surface stress on the shared angle grid theta_m = (m + 1/2) 2 pi / M (Guillard eq. A4),
 /// theta measured from the direction of V, counter-clockwise.
 struct SurfaceDistribution {
@@ -94,6 +105,7 @@ struct RunResult {
   std::optional<SurfaceDistribution> surface;
   std::optional<SurfaceHistogram> histogram;
   std::optional<FieldGrid> fields;
+  std::optional<LidSeries> lid;
 };
 
 }  // namespace grainlift

@@ -1,0 +1,57 @@
+// Pressure-controlled lid (Guillard 2014 method iii in 2D): the top wall of frozen disks moves
+// as one rigid body along y under a prescribed confining pressure. See docs/dem-model.md.
+#pragma once
+
+#include "grainlift/dem/dem_config.h"
+#include "grainlift/dem/dem_system.h"
+
+namespace grainlift::dem {
+
+/// One sample of the lid.
+struct LidState {
+  double y = 0;         ///< m, height of the lid disks' centres
+  double velocity = 0;  ///< m/s
+  double pressure = 0;  ///< N/m (2D pressure, = Pa per unit depth): grain force on the lid / width
+};
+
+/// The top wall as a rigid lid with mass M and linear damping c:
+///   M dv/dt = F_grains - P W - c v,   dy/dt = v,
+/// F_grains the y force of the grains on the lid disks (N in the engine's units), W the box
+/// width (m), P the target pressure (N/m). Integrated after each DemSystem step by symplectic
+/// Euler with the damping implicit:
+///   v' = (v + dt (F_grains - P W) / M) / (1 + c dt / M),   y' = y + dt v'.
+/// The lid disks are moved by dt v' and carry v' as their velocity in the contact law.
+class PressureLid {
+ public:
+  /// @brief Take the top-wall disks of cfg (frozen indices in s) as the lid. cfg.lid_pressure
+  /// > 0, cfg.wall_top, !cfg.periodic_y (validate_config checks). Mass and damping from cfg or,
+  /// when 0 there, lid_mass() and lid_damping() below. s must hold the bodies already.
+  PressureLid(const DemConfig& cfg, DemSystem& s);
+
+  /// @brief Measure the grain force on the lid at the state of s and advance the lid one dt.
+  void advance(DemSystem& s);
+
+  /// Lid state after the last advance() (pressure: the force measured in that call).
+  const LidState& state() const { return state_; }
+  double mass() const { return mass_; }        ///< kg
+  double damping() const { return damping_; }  ///< kg/s
+  int disks() const { return end_ - begin_; }
+
+  /// @brief Default lid mass: the mass of the grains of the bed (kg), a heavy lid whose
+  /// fluctuations are small. @param grain_mass kg, total mass of the mobile grains.
+  static double default_mass(double grain_mass) { return grain_mass; }
+  /// @brief Default damping: critical, c = 2 sqrt(K M), for the bed's estimated stiffness
+  /// K = k_lin W / H: columns of mean grains in series, each contact linearised at the
+  /// load P d of the target pressure: k_lin = (3/2) k^(2/3) (P d)^(1/3) with F = k delta^(3/2)
+  /// (kumar2019: k = Kn sqrt(R_eff); guillard2014: k = kn*), R_eff = d/4. kg/s.
+  static double default_damping(const DemConfig& cfg, double mass);
+
+ private:
+  int begin_ = 0, end_ = 0;  ///< lid disks: particle indices [begin_, end_)
+  double width_ = 0;         ///< m, box width W
+  double force_target_ = 0;  ///< N, P W
+  double mass_ = 0, damping_ = 0;
+  LidState state_;
+};
+
+}  // namespace grainlift::dem
