@@ -49,11 +49,11 @@ void run_bed(benchmark::State& state, double phi) {
   s.set_bodies(grains, gd::make_wall_disks(c));
   s.set_store_pair_forces(false);  // as run_simulation with fields off
   s.set_intruder(0, 0, 0.5 * c.intruder_diameter, c.intruder_velocity[0], 0, c.intruder_omega, 0);
-  for (int k = 0; k < 500; ++k) s.step();  // warm-up: lists built, intruder in contact
+  s.advance(500);  // warm-up: lists built, intruder in contact
   const int builds0 = s.list_builds();
   const int steps_per_iteration = 100;
   for (auto _ : state) {
-    for (int k = 0; k < steps_per_iteration; ++k) s.step();
+    s.advance(steps_per_iteration);
   }
   const double ps = static_cast<double>(state.iterations()) * steps_per_iteration * s.grains();
   state.counters["particle_steps_per_s"] = benchmark::Counter(ps, benchmark::Counter::kIsRate);

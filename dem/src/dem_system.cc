@@ -12,11 +12,13 @@
 #include "grainlift/dem/dem_system.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <omp.h>
 
 #include "grainlift/dem/errors.h"
+#include "team_barrier.h"
 
 namespace grainlift::dem {
 
@@ -59,7 +61,7 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   }
   skin_ = opt_.skin > 0 ? opt_.skin : 0.2 * rmax;
   // Below ~kMinGrainsPerThread grains per thread the fork-join costs more than it saves.
-  team_ = std::max(1, std::min(opt_.threads, n_grains_ / kMinGrainsPerThread));
+  team_ = std::max(1, std::min({opt_.threads, n_grains_ / kMinGrainsPerThread, kMaxTeam}));
   nl_.clear();
   ic_ = IntruderContacts{};
   ic_old_ = IntruderContacts{};
@@ -181,14 +183,19 @@ void DemSystem::build_lists() {
       ic_.sy[b] = ic_old_.sy[a];
     }
   }
-  // touching-pair scratch of the force loop: sized here so that the step does not allocate
-  touch_.resize(std::max<std::size_t>(touch_.size(), static_cast<std::size_t>(team_)));
-  for (auto& v : touch_) v.reserve(nl_.pairs());
+  // touching-pair scratch of the force loop, one list per chunk of rows: sized here so that
+  // the step does not allocate
+  const int nc_rows = chunks();
+  touch_.resize(static_cast<std::size_t>(nc_rows));
+  for (int c = 0; c < nc_rows; ++c) {
+    const int lo = c * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
+    touch_[c].reserve(static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]));
+  }
   growth_since_build_ = 0;
   ++builds_;
 }
 
-void DemSystem::compute_forces(double spring_dt) {
+void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   const double h = 0.5 * spring_dt;  // predicted v(t+dt) = v(t+dt/2) + h a(t)
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
@@ -204,7 +211,7 @@ void DemSystem::compute_forces(double spring_dt) {
   const double* ay = p_.ay.data();
   const double* al = p_.alpha.data();
   const double* inv_m = p_.inv_m.data();
-  const std::int64_t* first = nl_.first.data();
+  const int* owner = nl_.owner.data();
   const int* partner = nl_.partner.data();
   double* sx = nl_.sx.data();
   double* sy = nl_.sy.data();
@@ -212,7 +219,6 @@ void DemSystem::compute_forces(double spring_dt) {
   double* pfy = nl_.fy.data();
   double* pq = nl_.q.data();
   const int ng = n_grains_;
-  double max_ov = max_overlap_;
   // One thread: sum per particle in the pair loop itself (Newton's third law), no gather.
   // The order of the additions is that of the gather of the threaded path (pairs where the
   // particle is the partner, by pair index, then its own row), so the results are the same.
@@ -221,156 +227,152 @@ void DemSystem::compute_forces(double spring_dt) {
   double* sfx = fx_.data();
   double* sfy = fy_.data();
   double* sq = tq_.data();
-  if (scatter) {
-    std::fill(fx_.begin(), fx_.begin() + ng, 0.0);
-    std::fill(fy_.begin(), fy_.begin() + ng, 0.0);
-    std::fill(tq_.begin(), tq_.begin() + ng, 0.0);
+  const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
+  const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
+  std::vector<std::int64_t>& touching = touch_[chunk];
+  touching.clear();
+  // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
+  // a relaxed bed are apart). A pair that is apart forgets its history; only words that are
+  // not zero already are written.
+  for (std::int64_t k = k0; k < k1; ++k) {
+    const int i = owner[k], j = partner[k];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    box.min_image(dx, dy);
+    const double rs = r[i] + r[j];
+    if (dx * dx + dy * dy < rs * rs) {
+      touching.push_back(k);
+      continue;
+    }
+    if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
+    if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
   }
-
-  if (touch_.size() < static_cast<std::size_t>(team_)) touch_.resize(team_);
-#pragma omp parallel num_threads(team_) reduction(max : max_ov)
-  {
-    // Rows in contiguous blocks, one per thread (the same blocks as a static schedule).
-    const int t = omp_get_thread_num();
-    const int nth = omp_get_num_threads();
-    const int lo = static_cast<int>(static_cast<std::int64_t>(ng) * t / nth);
-    const int hi = static_cast<int>(static_cast<std::int64_t>(ng) * (t + 1) / nth);
-    std::vector<std::int64_t>& touching = touch_[t];
-    touching.clear();
-    // Pass 1: distance checks only (most listed pairs of a relaxed bed are apart). A pair that
-    // is apart forgets its history; only words that are not zero already are written.
-    for (int i = lo; i < hi; ++i) {
-      const double xi = x[i], yi = y[i], ri = r[i];
-      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-        const int j = partner[k];
-        double dx = xi - x[j], dy = yi - y[j];
-        box.min_image(dx, dy);
-        const double rs = ri + r[j];
-        if (dx * dx + dy * dy < rs * rs) {
-          touching.push_back(k);
-          continue;
-        }
-        if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
-        if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
+  // Pass 2: the contact law on the touching pairs, in pair order.
+  for (const std::int64_t k : touching) {
+    const int i = owner[k], j = partner[k];
+    const double ri = r[i], rj = r[j];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    box.min_image(dx, dy);
+    const double rs = ri + rj;
+    const double dist = std::sqrt(dx * dx + dy * dy);
+    const double inv_dist = 1.0 / dist;
+    ContactKinematics kin;
+    kin.nx = dx * inv_dist;
+    kin.ny = dy * inv_dist;
+    kin.delta = rs - dist;
+    kin.r_eff = ri * rj / rs;
+    kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+    kin.mu = mu;
+    const double tx = -kin.ny, ty = kin.nx;
+    // predicted relative velocity of the contact point at t+dt
+    const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
+    const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
+    const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
+    kin.vn = vrx * kin.nx + vry * kin.ny;
+    kin.vtx = vrx - kin.vn * kin.nx;
+    kin.vty = vry - kin.vn * kin.ny;
+    // displacement of the contact point over the step (half-step velocities)
+    const double wh = w[i] * ri + w[j] * rj;
+    kin.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
+    kin.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
+    ContactForce f;
+    contact_force(law, kin, sx[k], sy[k], f);
+    const double qk = kin.nx * f.fty - kin.ny * f.ftx;
+    if (store) {
+      pfx[k] = f.fx;
+      pfy[k] = f.fy;
+      pq[k] = qk;
+    }
+    if (scatter) {
+      sfx[i] += f.fx;
+      sfy[i] += f.fy;
+      sq[i] += qk;
+      if (j < ng) {
+        sfx[j] -= f.fx;
+        sfy[j] -= f.fy;
+        sq[j] += qk;
       }
     }
-    // Pass 2: the contact law on the touching pairs, in pair order.
-    int i = lo;
-    for (const std::int64_t k : touching) {
-      while (first[i + 1] <= k) ++i;
-      const int j = partner[k];
-      const double ri = r[i], rj = r[j];
-      double dx = x[i] - x[j], dy = y[i] - y[j];
-      box.min_image(dx, dy);
-      const double rs = ri + rj;
-      const double dist = std::sqrt(dx * dx + dy * dy);
-      const double inv_dist = 1.0 / dist;
-      ContactKinematics kin;
-      kin.nx = dx * inv_dist;
-      kin.ny = dy * inv_dist;
-      kin.delta = rs - dist;
-      kin.r_eff = ri * rj / rs;
-      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
-      kin.mu = mu;
-      const double tx = -kin.ny, ty = kin.nx;
-      // predicted relative velocity of the contact point at t+dt
-      const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
-      const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
-      const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
-      kin.vn = vrx * kin.nx + vry * kin.ny;
-      kin.vtx = vrx - kin.vn * kin.nx;
-      kin.vty = vry - kin.vn * kin.ny;
-      // displacement of the contact point over the step (half-step velocities)
-      const double wh = w[i] * ri + w[j] * rj;
-      kin.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
-      kin.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
-      ContactForce f;
-      contact_force(law, kin, sx[k], sy[k], f);
-      const double qk = kin.nx * f.fty - kin.ny * f.ftx;
-      if (store) {
-        pfx[k] = f.fx;
-        pfy[k] = f.fy;
-        pq[k] = qk;
-      }
-      if (scatter) {
-        sfx[i] += f.fx;
-        sfy[i] += f.fy;
-        sq[i] += qk;
-        if (j < ng) {
-          sfx[j] -= f.fx;
-          sfy[j] -= f.fy;
-          sq[j] += qk;
-        }
-      }
-      const double ov = kin.delta / (2.0 * std::min(ri, rj));
-      if (ov > max_ov) max_ov = ov;
-    }
+    const double ov = kin.delta / (2.0 * std::min(ri, rj));
+    if (ov > max_ov) max_ov = ov;
   }
-
-  // ---- the intruder: its own small loop over its candidates (serial, fixed order)
-  ifx_ = ify_ = itq_ = 0;
-  intruder_touching_ = 0;
-  if (intruder_.present) {
-    const Intruder& in = intruder_;
-    const double t_half = time_ - in.t0 + h;
-    const double t_full = time_ - in.t0 + spring_dt;
-    const double wh_in = in.omega(t_half), wp_in = in.omega(t_full);
-    const double big_r = in.r;
-    for (std::size_t c = 0; c < ic_.grain.size(); ++c) {
-      const int g = ic_.grain[c];
-      double dx = x[g] - in.x, dy = y[g] - in.y;
-      box.min_image(dx, dy);
-      const double rs = r[g] + big_r;
-      const double d2 = dx * dx + dy * dy;
-      if (d2 >= rs * rs) {
-        ic_.sx[c] = ic_.sy[c] = 0;
-        ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = 0;
-        ic_.touching[c] = ic_.slipping[c] = 0;
-        continue;
-      }
-      const double dist = std::sqrt(d2);
-      ContactKinematics kin;
-      kin.nx = dx / dist;
-      kin.ny = dy / dist;
-      kin.delta = rs - dist;
-      kin.r_eff = r[g] * big_r / rs;
-      kin.m_eff = 1.0 / inv_m[g];  // the intruder has infinite mass
-      kin.mu = mu_intruder_;
-      const double tx = -kin.ny, ty = kin.nx;
-      const double wp = (w[g] + h * al[g]) * r[g] + wp_in * big_r;
-      const double vrx = vx[g] + h * ax[g] - in.vx - wp * tx;
-      const double vry = vy[g] + h * ay[g] - in.vy - wp * ty;
-      kin.vn = vrx * kin.nx + vry * kin.ny;
-      kin.vtx = vrx - kin.vn * kin.nx;
-      kin.vty = vry - kin.vn * kin.ny;
-      const double wh = w[g] * r[g] + wh_in * big_r;
-      kin.dsx = spring_dt * (vx[g] - in.vx - wh * tx);
-      kin.dsy = spring_dt * (vy[g] - in.vy - wh * ty);
-      ContactForce f;
-      contact_force(law, kin, ic_.sx[c], ic_.sy[c], f);
-      ic_.fx[c] = f.fx;
-      ic_.fy[c] = f.fy;
-      ic_.fn[c] = f.fn;
-      ic_.ft[c] = f.ftx * tx + f.fty * ty;
-      ic_.nx[c] = kin.nx;
-      ic_.ny[c] = kin.ny;
-      ic_.touching[c] = 1;
-      ic_.slipping[c] = f.slipping ? 1 : 0;
-      ifx_ -= f.fx;
-      ify_ -= f.fy;
-      itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
-      ++intruder_touching_;
-      const double ov = kin.delta / (2.0 * r[g]);
-      if (ov > max_ov) max_ov = ov;
-    }
-  }
-  max_overlap_ = max_ov;
 }
 
-void DemSystem::finish_kick(bool first_call) {
-  const double h = 0.5 * opt_.dt;
+void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
+  const double h = 0.5 * spring_dt;
+  ifx_ = ify_ = itq_ = 0;
+  intruder_touching_ = 0;
+  if (!intruder_.present) return;
+  const PeriodicBox box = opt_.box;
+  const LawCoefficients law = law_;
+  const double* x = p_.x.data();
+  const double* y = p_.y.data();
+  const double* r = p_.r.data();
+  const double* vx = p_.vx.data();
+  const double* vy = p_.vy.data();
+  const double* w = p_.w.data();
+  const double* ax = p_.ax.data();
+  const double* ay = p_.ay.data();
+  const double* al = p_.alpha.data();
+  const double* inv_m = p_.inv_m.data();
+  const Intruder& in = intruder_;
+  const double t_half = time_ - in.t0 + h;
+  const double t_full = time_ - in.t0 + spring_dt;
+  const double wh_in = in.omega(t_half), wp_in = in.omega(t_full);
+  const double big_r = in.r;
+  for (std::size_t c = 0; c < ic_.grain.size(); ++c) {
+    const int g = ic_.grain[c];
+    double dx = x[g] - in.x, dy = y[g] - in.y;
+    box.min_image(dx, dy);
+    const double rs = r[g] + big_r;
+    const double d2 = dx * dx + dy * dy;
+    if (d2 >= rs * rs) {
+      ic_.sx[c] = ic_.sy[c] = 0;
+      ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = 0;
+      ic_.touching[c] = ic_.slipping[c] = 0;
+      continue;
+    }
+    const double dist = std::sqrt(d2);
+    ContactKinematics kin;
+    kin.nx = dx / dist;
+    kin.ny = dy / dist;
+    kin.delta = rs - dist;
+    kin.r_eff = r[g] * big_r / rs;
+    kin.m_eff = 1.0 / inv_m[g];  // the intruder has infinite mass
+    kin.mu = mu_intruder_;
+    const double tx = -kin.ny, ty = kin.nx;
+    const double wp = (w[g] + h * al[g]) * r[g] + wp_in * big_r;
+    const double vrx = vx[g] + h * ax[g] - in.vx - wp * tx;
+    const double vry = vy[g] + h * ay[g] - in.vy - wp * ty;
+    kin.vn = vrx * kin.nx + vry * kin.ny;
+    kin.vtx = vrx - kin.vn * kin.nx;
+    kin.vty = vry - kin.vn * kin.ny;
+    const double wh = w[g] * r[g] + wh_in * big_r;
+    kin.dsx = spring_dt * (vx[g] - in.vx - wh * tx);
+    kin.dsy = spring_dt * (vy[g] - in.vy - wh * ty);
+    ContactForce f;
+    contact_force(law, kin, ic_.sx[c], ic_.sy[c], f);
+    ic_.fx[c] = f.fx;
+    ic_.fy[c] = f.fy;
+    ic_.fn[c] = f.fn;
+    ic_.ft[c] = f.ftx * tx + f.fty * ty;
+    ic_.nx[c] = kin.nx;
+    ic_.ny[c] = kin.ny;
+    ic_.touching[c] = 1;
+    ic_.slipping[c] = f.slipping ? 1 : 0;
+    ifx_ -= f.fx;
+    ify_ -= f.fy;
+    itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
+    ++intruder_touching_;
+    const double ov = kin.delta / (2.0 * r[g]);
+    if (ov > max_ov) max_ov = ov;
+  }
+}
+
+double DemSystem::finish_rows(int lo, int hi, Kick mode) {
+  const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
-  const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * opt_.dt) : 1.0;
+  const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
+  const PeriodicBox box = opt_.box;
   const std::int64_t* first = nl_.first.data();
   const std::int64_t* rfirst = nl_.rfirst.data();
   const std::int64_t* rpair = nl_.rpair.data();
@@ -378,23 +380,38 @@ void DemSystem::finish_kick(bool first_call) {
   const double* pfy = nl_.fy.data();
   const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
-  const int ng = n_grains_;
   const bool scatter = team_ == 1;
-  const double* sfx = fx_.data();
-  const double* sfy = fy_.data();
-  const double* sq = tq_.data();
-  ParticleArrays& p = p_;
-  const IntruderContacts& ic = ic_;
-#pragma omp parallel for schedule(static) num_threads(team_)
-  for (int i = 0; i < ng; ++i) {
+  double* sfx = fx_.data();
+  double* sfy = fy_.data();
+  double* sq = tq_.data();
+  const double* icfx = ic_.fx.data();
+  const double* icfy = ic_.fy.data();
+  const double* icft = ic_.ft.data();
+  double* __restrict px = p_.x.data();
+  double* __restrict py = p_.y.data();
+  double* __restrict vx = p_.vx.data();
+  double* __restrict vy = p_.vy.data();
+  double* __restrict w = p_.w.data();
+  double* __restrict ax = p_.ax.data();
+  double* __restrict ay = p_.ay.data();
+  double* __restrict al = p_.alpha.data();
+  const double* r = p_.r.data();
+  const double* inv_m = p_.inv_m.data();
+  const double* inv_i = p_.inv_i.data();
+  const double* xb = p_.x_build.data();
+  const double* yb = p_.y_build.data();
+  double maxd2 = 0;
+  for (int i = lo; i < hi; ++i) {
     double fx = 0, fy = 0, qs = 0;
     if (scatter) {
+      // the sums of this step; zeroed for the next one
       fx = sfx[i];
       fy = sfy[i];
       qs = sq[i];
+      sfx[i] = sfy[i] = sq[i] = 0;
     } else {
       // pairs where i is the partner (by pair index), then i's own row: the order of the
-      // one-thread scatter in compute_forces
+      // one-thread scatter in chunk_forces
       for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
         const std::int64_t k = rpair[s];
         fx -= pfx[k];
@@ -407,32 +424,88 @@ void DemSystem::finish_kick(bool first_call) {
         qs += pq[k];
       }
     }
-    double tq = -p.r[i] * qs;
+    double tq = -r[i] * qs;
     const int c = slot[i];
     if (c >= 0) {
-      fx += ic.fx[c];
-      fy += ic.fy[c];
-      tq -= p.r[i] * ic.ft[c];  // n x F_t = ft for F_t = ft (-n_y, n_x)
+      fx += icfx[c];
+      fy += icfy[c];
+      tq -= r[i] * icft[c];  // n x F_t = ft for F_t = ft (-n_y, n_x)
     }
-    const double axn = fx * p.inv_m[i] + gx;
-    const double ayn = fy * p.inv_m[i] + gy;
-    const double aln = tq * p.inv_i[i];
-    if (!first_call) {
-      p.vx[i] = (p.vx[i] + h * axn) * damp;
-      p.vy[i] = (p.vy[i] + h * ayn) * damp;
-      p.w[i] = (p.w[i] + h * aln) * damp;
+    const double axn = fx * inv_m[i] + gx;
+    const double ayn = fy * inv_m[i] + gy;
+    const double aln = tq * inv_i[i];
+    ax[i] = axn;
+    ay[i] = ayn;
+    al[i] = aln;
+    if (mode == Kick::first) continue;
+    // second half kick: v(t+dt)
+    double vxi = (vx[i] + h * axn) * damp;
+    double vyi = (vy[i] + h * ayn) * damp;
+    double wi = (w[i] + h * aln) * damp;
+    if (mode == Kick::drift) {
+      // the next step's half kick and drift (the same operations as drift_rows)
+      vxi += h * axn;
+      vyi += h * ayn;
+      wi += h * aln;
+      double xi = px[i] + dt * vxi, yi = py[i] + dt * vyi;
+      box.wrap(xi, yi);
+      px[i] = xi;
+      py[i] = yi;
+      double dx = xi - xb[i], dy = yi - yb[i];
+      box.min_image(dx, dy);
+      const double d2 = dx * dx + dy * dy;
+      if (d2 > maxd2) maxd2 = d2;
     }
-    p.ax[i] = axn;
-    p.ay[i] = ayn;
-    p.alpha[i] = aln;
+    vx[i] = vxi;
+    vy[i] = vyi;
+    w[i] = wi;
   }
+  return maxd2;
+}
+
+double DemSystem::drift_rows(int lo, int hi) {
+  const double dt = opt_.dt, h = 0.5 * dt;
+  const PeriodicBox box = opt_.box;
+  ParticleArrays& p = p_;
+  double maxd2 = 0;
+  for (int i = lo; i < hi; ++i) {
+    p.vx[i] += h * p.ax[i];
+    p.vy[i] += h * p.ay[i];
+    p.w[i] += h * p.alpha[i];
+    double xi = p.x[i] + dt * p.vx[i], yi = p.y[i] + dt * p.vy[i];
+    box.wrap(xi, yi);
+    p.x[i] = xi;
+    p.y[i] = yi;
+    double dx = xi - p.x_build[i], dy = yi - p.y_build[i];
+    box.min_image(dx, dy);
+    const double d2 = dx * dx + dy * dy;
+    if (d2 > maxd2) maxd2 = d2;
+  }
+  return maxd2;
+}
+
+double DemSystem::drift_intruder() {
+  if (!intruder_.present) return 0;
+  const double dt = opt_.dt;
+  const PeriodicBox& box = opt_.box;
+  double xi = intruder_.x + dt * intruder_.vx, yi = intruder_.y + dt * intruder_.vy;
+  box.wrap(xi, yi);
+  intruder_.x = xi;
+  intruder_.y = yi;
+  double dx = xi - intruder_.x_build, dy = yi - intruder_.y_build;
+  box.min_image(dx, dy);
+  return std::sqrt(dx * dx + dy * dy);
 }
 
 void DemSystem::prepare() {
   if (primed_) return;
   build_lists();
-  compute_forces(0.0);
-  finish_kick(true);
+  double max_ov = max_overlap_;
+  intruder_forces(0.0, max_ov);
+  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov);
+  max_overlap_ = max_ov;
+  finish_rows(0, n_grains_, Kick::first);
+  drifted_ = false;
   primed_ = true;
 }
 
@@ -458,43 +531,98 @@ double DemSystem::current_max_overlap_fraction() const {
   return worst;
 }
 
-void DemSystem::step() {
-  prepare();
-  const double dt = opt_.dt, h = 0.5 * dt;
-  const PeriodicBox& box = opt_.box;
-  ParticleArrays& p = p_;
-  const int ng = n_grains_;
-  double maxd2 = 0;
-#pragma omp parallel for schedule(static) num_threads(team_) reduction(max : maxd2)
-  for (int i = 0; i < ng; ++i) {
-    p.vx[i] += h * p.ax[i];
-    p.vy[i] += h * p.ay[i];
-    p.w[i] += h * p.alpha[i];
-    double xi = p.x[i] + dt * p.vx[i], yi = p.y[i] + dt * p.vy[i];
-    box.wrap(xi, yi);
-    p.x[i] = xi;
-    p.y[i] = yi;
-    double dx = xi - p.x_build[i], dy = yi - p.y_build[i];
-    box.min_image(dx, dy);
-    const double d2 = dx * dx + dy * dy;
-    if (d2 > maxd2) maxd2 = d2;
-  }
+long long DemSystem::run_segment(long long m) {
+  const int team = team_;
+  const int nchunks = chunks();
+  const int items = nchunks + 1;  // work item 0: the intruder; item 1 + c: chunk c
+  const double dt = opt_.dt;
+  detail::TeamBarrier barrier(team);
+  std::atomic<int> next{0};  // dynamic work distribution (results do not depend on it)
+  struct alignas(64) Slot {
+    double d2 = 0;
+  };
+  Slot slot[kMaxTeam];
   double idisp = 0;
-  if (intruder_.present) {
-    double xi = intruder_.x + dt * intruder_.vx, yi = intruder_.y + dt * intruder_.vy;
-    box.wrap(xi, yi);
-    intruder_.x = xi;
-    intruder_.y = yi;
-    double dx = xi - intruder_.x_build, dy = yi - intruder_.y_build;
-    box.min_image(dx, dy);
-    idisp = std::sqrt(dx * dx + dy * dy);
+  bool was_drifted = drifted_;
+  long long completed = 0;
+  bool rebuild = false;
+  double max_ov = max_overlap_;
+  const int rows_per_chunk = kChunkRows;
+  const int ng = n_grains_;
+#pragma omp parallel num_threads(team) reduction(max : max_ov)
+  {
+    const int t = omp_get_thread_num();
+    auto grab = [&] { return team == 1 ? -1 : next.fetch_add(1, std::memory_order_relaxed); };
+    int serial = 0;  // one thread: work items in order without atomics
+    auto take = [&]() -> int { return team == 1 ? serial++ : grab(); };
+    auto reset = [&] {
+      serial = 0;
+      next.store(0, std::memory_order_relaxed);
+    };
+    double d2 = 0;
+    if (!was_drifted) {
+      for (int c; (c = take()) < items;) {
+        if (c == 0) {
+          idisp = drift_intruder();
+        } else {
+          const int lo = (c - 1) * rows_per_chunk;
+          d2 = std::max(d2, drift_rows(lo, std::min(ng, lo + rows_per_chunk)));
+        }
+      }
+    }
+    slot[t].d2 = d2;
+    for (long long k = 0;;) {
+      barrier.wait(reset);
+      // every thread takes the same decision from the same numbers
+      double md2 = 0;
+      for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
+      const double md = std::sqrt(md2) + growth_since_build_;
+      if (2.0 * md > skin_ || idisp + md > skin_) {
+        if (t == 0) rebuild = true;
+        break;
+      }
+      for (int c; (c = take()) < items;) {
+        if (c == 0) {
+          intruder_forces(dt, max_ov);
+        } else {
+          chunk_forces(c - 1, dt, max_ov);
+        }
+      }
+      barrier.wait(reset);
+      ++k;
+      const bool last = k == m;
+      d2 = 0;
+      for (int c; (c = take()) < items;) {
+        if (c == 0) {
+          time_ += dt;
+          ++steps_;
+          if (!last) idisp = drift_intruder();
+        } else {
+          const int lo = (c - 1) * rows_per_chunk;
+          d2 = std::max(d2, finish_rows(lo, std::min(ng, lo + rows_per_chunk),
+                                        last ? Kick::sync : Kick::drift));
+        }
+      }
+      slot[t].d2 = d2;
+      if (last) {
+        if (t == 0) completed = k;
+        break;
+      }
+      if (t == 0) completed = k;
+    }
   }
-  const double md = std::sqrt(maxd2) + growth_since_build_;
-  if (2.0 * md > skin_ || idisp + md > skin_) build_lists();
-  compute_forces(dt);
-  finish_kick(false);
-  time_ += dt;
-  ++steps_;
+  max_overlap_ = max_ov;
+  drifted_ = rebuild;
+  return completed;
+}
+
+void DemSystem::advance(long long n) {
+  prepare();
+  long long done = 0;
+  while (done < n) {
+    done += run_segment(n - done);
+    if (drifted_) build_lists();
+  }
 }
 
 }  // namespace grainlift::dem
