@@ -187,10 +187,14 @@ void DemSystem::build_lists() {
   // the step does not allocate
   const int nc_rows = chunks();
   touch_.resize(static_cast<std::size_t>(nc_rows));
+  touch_prev_.resize(static_cast<std::size_t>(nc_rows));
   for (int c = 0; c < nc_rows; ++c) {
     const int lo = c * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
-    touch_[c].reserve(static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]));
+    const auto np = static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]);
+    touch_[c].reserve(np);
+    touch_prev_[c].reserve(np);
   }
+  full_history_check_ = true;  // pair indices changed; histories were carried over
   growth_since_build_ = 0;
   ++builds_;
 }
@@ -230,21 +234,41 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
   std::vector<std::int64_t>& touching = touch_[chunk];
+  std::vector<std::int64_t>& before = touch_prev_[chunk];
+  touching.swap(before);
   touching.clear();
   // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
-  // a relaxed bed are apart). A pair that is apart forgets its history; only words that are
-  // not zero already are written.
+  // a relaxed bed are apart); no stores but the list of touching pairs.
   for (std::int64_t k = k0; k < k1; ++k) {
     const int i = owner[k], j = partner[k];
     double dx = x[i] - x[j], dy = y[i] - y[j];
     box.min_image(dx, dy);
     const double rs = r[i] + r[j];
-    if (dx * dx + dy * dy < rs * rs) {
-      touching.push_back(k);
-      continue;
-    }
+    if (dx * dx + dy * dy < rs * rs) touching.push_back(k);
+  }
+  // A pair that is apart forgets its history (and its stored force). Only pairs that touched
+  // at the step before can hold any: those that no longer touch are found by a merge of the
+  // two sorted lists; after a list build every pair is checked.
+  auto forget = [&](std::int64_t k) {
     if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
     if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
+  };
+  if (full_history_check_) {
+    std::size_t a = 0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+      if (a < touching.size() && touching[a] == k) {
+        ++a;
+        continue;
+      }
+      forget(k);
+    }
+  } else {
+    std::size_t a = 0;
+    for (const std::int64_t k : before) {
+      while (a < touching.size() && touching[a] < k) ++a;
+      if (a < touching.size() && touching[a] == k) continue;
+      forget(k);
+    }
   }
   // Pass 2: the contact law on the touching pairs, in pair order.
   for (const std::int64_t k : touching) {
@@ -381,9 +405,9 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
   const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
   const bool scatter = team_ == 1;
-  double* sfx = fx_.data();
-  double* sfy = fy_.data();
-  double* sq = tq_.data();
+  const double* sfx = fx_.data();
+  const double* sfy = fy_.data();
+  const double* sq = tq_.data();
   const double* icfx = ic_.fx.data();
   const double* icfy = ic_.fy.data();
   const double* icft = ic_.ft.data();
@@ -408,7 +432,6 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
       fx = sfx[i];
       fy = sfy[i];
       qs = sq[i];
-      sfx[i] = sfy[i] = sq[i] = 0;
     } else {
       // pairs where i is the partner (by pair index), then i's own row: the order of the
       // one-thread scatter in chunk_forces
@@ -463,6 +486,19 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
   return maxd2;
 }
 
+void DemSystem::clear_scatter_sums() {
+  const int* owner = nl_.owner.data();
+  const int* partner = nl_.partner.data();
+  const int ng = n_grains_;
+  for (const auto& list : touch_) {
+    for (const std::int64_t k : list) {
+      const int i = owner[k], j = partner[k];
+      fx_[i] = fy_[i] = tq_[i] = 0;
+      if (j < ng) fx_[j] = fy_[j] = tq_[j] = 0;
+    }
+  }
+}
+
 double DemSystem::drift_rows(int lo, int hi) {
   const double dt = opt_.dt, h = 0.5 * dt;
   const PeriodicBox box = opt_.box;
@@ -503,8 +539,10 @@ void DemSystem::prepare() {
   double max_ov = max_overlap_;
   intruder_forces(0.0, max_ov);
   for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov);
+  full_history_check_ = false;
   max_overlap_ = max_ov;
   finish_rows(0, n_grains_, Kick::first);
+  if (team_ == 1) clear_scatter_sums();
   drifted_ = false;
   primed_ = true;
 }
@@ -596,6 +634,7 @@ long long DemSystem::run_segment(long long m) {
         if (c == 0) {
           time_ += dt;
           ++steps_;
+          full_history_check_ = false;
           if (!last) idisp = drift_intruder();
         } else {
           const int lo = (c - 1) * rows_per_chunk;
@@ -603,6 +642,7 @@ long long DemSystem::run_segment(long long m) {
                                         last ? Kick::sync : Kick::drift));
         }
       }
+      if (team == 1) clear_scatter_sums();
       slot[t].d2 = d2;
       if (last) {
         if (t == 0) completed = k;

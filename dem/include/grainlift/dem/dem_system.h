@@ -108,7 +108,10 @@ class DemSystem {
   /// @brief Keep the per-pair forces of every step in neighbors().fx/fy/q (default on; the
   /// contact stress of the fields reads them). Off, a one-thread run skips those stores; the
   /// forces on the bodies are the same bits either way.
-  void set_store_pair_forces(bool on) { store_pair_forces_ = on; }
+  void set_store_pair_forces(bool on) {
+    if (on != store_pair_forces_) full_history_check_ = true;
+    store_pair_forces_ = on;
+  }
   /// @brief Set every grain velocity and angular velocity to zero.
   void zero_velocities();
 
@@ -152,6 +155,8 @@ class DemSystem {
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
   double finish_rows(int lo, int hi, Kick mode);
+  /// One thread: set the per-particle sums of the touching pairs of this step back to zero.
+  void clear_scatter_sums();
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
@@ -176,6 +181,11 @@ class DemSystem {
   /// on one thread (in the same order as the gather of the threaded path: same bits).
   std::vector<double> fx_, fy_, tq_;
   std::vector<std::vector<std::int64_t>> touch_;  ///< per chunk: touching pairs of the step
+  std::vector<std::vector<std::int64_t>> touch_prev_;  ///< per chunk: those of the step before
+  /// The history (and stored force) of a listed pair is non-zero only if the pair touched at
+  /// the step before (touch_prev_), except after a list build or a change of
+  /// store_pair_forces_: then the next force pass checks every pair.
+  bool full_history_check_ = true;
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
   Intruder intruder_;
