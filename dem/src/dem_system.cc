@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include <omp.h>
 
@@ -21,6 +23,15 @@
 #include "team_barrier.h"
 
 namespace grainlift::dem {
+
+namespace {
+/// The bits of a double (a comparison that tells -0.0 from +0.0).
+inline std::uint64_t bits(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+}  // namespace
 
 DemSystem::DemSystem(const SystemOptions& options) : opt_(options) {
   law_ = LawCoefficients::from(options.contact);
@@ -36,9 +47,19 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   n_total_ = n_grains_ + static_cast<int>(frozen.size());
   const std::size_t n = static_cast<std::size_t>(n_total_);
   for (auto* v : {&p_.x, &p_.y, &p_.vx, &p_.vy, &p_.w, &p_.ax, &p_.ay, &p_.alpha, &p_.r,
-                  &p_.inv_m, &p_.inv_i, &p_.mass, &p_.x_build, &p_.y_build, &fx_, &fy_, &tq_}) {
+                  &p_.inv_m, &p_.inv_i, &p_.mass, &fx_, &fy_, &tq_}) {
     v->assign(n, 0.0);
   }
+  p_.x_build.assign(n, 0.0f);
+  p_.y_build.assign(n, 0.0f);
+  touched_.assign(static_cast<std::size_t>(n_grains_), 0);
+  ic_candidate_.assign(static_cast<std::size_t>(n_grains_), 0);
+  // bound on |float(x) - x| over the box: the displacement check stays conservative
+  build_round_ = 0;
+  for (double c : {opt_.box.xmin, opt_.box.xmax, opt_.box.ymin, opt_.box.ymax}) {
+    build_round_ = std::max(build_round_, std::fabs(c));
+  }
+  build_round_ *= 2.0 * 0x1.0p-24;  // 2 x (half an ulp of a float, relative), both axes
   double rmax = 0;
   for (int i = 0; i < n_total_; ++i) {
     const bool is_grain = i < n_grains_;
@@ -151,11 +172,14 @@ void DemSystem::build_lists() {
   nl_.build(opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), n_grains_, n_total_, skin_,
             team_);
   for (int i = 0; i < n_total_; ++i) {
-    p_.x_build[i] = p_.x[i];
-    p_.y_build[i] = p_.y[i];
+    p_.x_build[i] = static_cast<float>(p_.x[i]);
+    p_.y_build[i] = static_cast<float>(p_.y[i]);
   }
   // Intruder candidates: grains within R + r + skin, in index order, history carried over.
-  for (int g : ic_.grain) ic_slot_[g] = -1;
+  for (int g : ic_.grain) {
+    ic_slot_[g] = -1;
+    ic_candidate_[g] = 0;
+  }
   std::swap(ic_, ic_old_);
   ic_.grain.clear();
   if (intruder_.present) {
@@ -177,6 +201,7 @@ void DemSystem::build_lists() {
   std::size_t a = 0;
   for (std::size_t b = 0; b < nc; ++b) {
     ic_slot_[ic_.grain[b]] = static_cast<int>(b);
+    ic_candidate_[ic_.grain[b]] = 1;
     while (a < ic_old_.grain.size() && ic_old_.grain[a] < ic_.grain[b]) ++a;
     if (a < ic_old_.grain.size() && ic_old_.grain[a] == ic_.grain[b]) {
       ic_.sx[b] = ic_old_.sx[a];
@@ -231,6 +256,7 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   double* sfx = fx_.data();
   double* sfy = fy_.data();
   double* sq = tq_.data();
+  std::uint8_t* touched = touched_.data();
   const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
   std::vector<std::int64_t>& touching = touch_[chunk];
@@ -310,11 +336,17 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       sfx[i] += f.fx;
       sfy[i] += f.fy;
       sq[i] += qk;
+      touched[i] = 1;
       if (j < ng) {
         sfx[j] -= f.fx;
         sfy[j] -= f.fy;
         sq[j] += qk;
+        touched[j] = 1;
       }
+    } else {
+      // several threads may mark the same grain (same value): relaxed atomic byte stores
+      __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
+      if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
     }
     const double ov = kin.delta / (2.0 * std::min(ri, rj));
     if (ov > max_ov) max_ov = ov;
@@ -392,7 +424,8 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
   }
 }
 
-double DemSystem::finish_rows(int lo, int hi, Kick mode) {
+template <bool kScatter, DemSystem::Kick kMode>
+double DemSystem::finish_impl(int lo, int hi) {
   const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
   const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
@@ -404,10 +437,11 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
   const double* pfy = nl_.fy.data();
   const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
-  const bool scatter = team_ == 1;
-  const double* sfx = fx_.data();
-  const double* sfy = fy_.data();
-  const double* sq = tq_.data();
+  std::uint8_t* touched = touched_.data();
+  const std::uint8_t* candidate = ic_candidate_.data();
+  double* sfx = fx_.data();
+  double* sfy = fy_.data();
+  double* sq = tq_.data();
   const double* icfx = ic_.fx.data();
   const double* icfy = ic_.fy.data();
   const double* icft = ic_.ft.data();
@@ -422,34 +456,39 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
   const double* r = p_.r.data();
   const double* inv_m = p_.inv_m.data();
   const double* inv_i = p_.inv_i.data();
-  const double* xb = p_.x_build.data();
-  const double* yb = p_.y_build.data();
+  const float* xb = p_.x_build.data();
+  const float* yb = p_.y_build.data();
   double maxd2 = 0;
   for (int i = lo; i < hi; ++i) {
+    // a grain with no touching pair has exactly zero pair force (+0.0, as the sums below)
     double fx = 0, fy = 0, qs = 0;
-    if (scatter) {
-      // the sums of this step; zeroed for the next one
-      fx = sfx[i];
-      fy = sfy[i];
-      qs = sq[i];
-    } else {
-      // pairs where i is the partner (by pair index), then i's own row: the order of the
-      // one-thread scatter in chunk_forces
-      for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
-        const std::int64_t k = rpair[s];
-        fx -= pfx[k];
-        fy -= pfy[k];
-        qs += pq[k];
-      }
-      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-        fx += pfx[k];
-        fy += pfy[k];
-        qs += pq[k];
+    if (touched[i]) {
+      touched[i] = 0;
+      if (kScatter) {
+        // the sums of this step; zeroed for the next one
+        fx = sfx[i];
+        fy = sfy[i];
+        qs = sq[i];
+        sfx[i] = sfy[i] = sq[i] = 0;
+      } else {
+        // pairs where i is the partner (by pair index), then i's own row: the order of the
+        // one-thread scatter in chunk_forces
+        for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
+          const std::int64_t k = rpair[s];
+          fx -= pfx[k];
+          fy -= pfy[k];
+          qs += pq[k];
+        }
+        for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+          fx += pfx[k];
+          fy += pfy[k];
+          qs += pq[k];
+        }
       }
     }
     double tq = -r[i] * qs;
-    const int c = slot[i];
-    if (c >= 0) {
+    if (candidate[i]) {
+      const int c = slot[i];
       fx += icfx[c];
       fy += icfy[c];
       tq -= r[i] * icft[c];  // n x F_t = ft for F_t = ft (-n_y, n_x)
@@ -457,15 +496,18 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
     const double axn = fx * inv_m[i] + gx;
     const double ayn = fy * inv_m[i] + gy;
     const double aln = tq * inv_i[i];
-    ax[i] = axn;
-    ay[i] = ayn;
-    al[i] = aln;
-    if (mode == Kick::first) continue;
+    // most grains keep their acceleration bit for bit (no contact): no store, no dirty line
+    if (bits(ax[i]) != bits(axn) || bits(ay[i]) != bits(ayn) || bits(al[i]) != bits(aln)) {
+      ax[i] = axn;
+      ay[i] = ayn;
+      al[i] = aln;
+    }
+    if (kMode == Kick::first) continue;
     // second half kick: v(t+dt)
     double vxi = (vx[i] + h * axn) * damp;
     double vyi = (vy[i] + h * ayn) * damp;
     double wi = (w[i] + h * aln) * damp;
-    if (mode == Kick::drift) {
+    if (kMode == Kick::drift) {
       // the next step's half kick and drift (the same operations as drift_rows)
       vxi += h * axn;
       vyi += h * ayn;
@@ -486,17 +528,15 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode) {
   return maxd2;
 }
 
-void DemSystem::clear_scatter_sums() {
-  const int* owner = nl_.owner.data();
-  const int* partner = nl_.partner.data();
-  const int ng = n_grains_;
-  for (const auto& list : touch_) {
-    for (const std::int64_t k : list) {
-      const int i = owner[k], j = partner[k];
-      fx_[i] = fy_[i] = tq_[i] = 0;
-      if (j < ng) fx_[j] = fy_[j] = tq_[j] = 0;
-    }
+double DemSystem::finish_rows(int lo, int hi, Kick mode) {
+  if (team_ == 1) {
+    if (mode == Kick::drift) return finish_impl<true, Kick::drift>(lo, hi);
+    if (mode == Kick::sync) return finish_impl<true, Kick::sync>(lo, hi);
+    return finish_impl<true, Kick::first>(lo, hi);
   }
+  if (mode == Kick::drift) return finish_impl<false, Kick::drift>(lo, hi);
+  if (mode == Kick::sync) return finish_impl<false, Kick::sync>(lo, hi);
+  return finish_impl<false, Kick::first>(lo, hi);
 }
 
 double DemSystem::drift_rows(int lo, int hi) {
@@ -542,7 +582,6 @@ void DemSystem::prepare() {
   full_history_check_ = false;
   max_overlap_ = max_ov;
   finish_rows(0, n_grains_, Kick::first);
-  if (team_ == 1) clear_scatter_sums();
   drifted_ = false;
   primed_ = true;
 }
@@ -614,7 +653,7 @@ long long DemSystem::run_segment(long long m) {
       // every thread takes the same decision from the same numbers
       double md2 = 0;
       for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
-      const double md = std::sqrt(md2) + growth_since_build_;
+      const double md = std::sqrt(md2) + build_round_ + growth_since_build_;
       if (2.0 * md > skin_ || idisp + md > skin_) {
         if (t == 0) rebuild = true;
         break;
@@ -642,7 +681,6 @@ long long DemSystem::run_segment(long long m) {
                                         last ? Kick::sync : Kick::drift));
         }
       }
-      if (team == 1) clear_scatter_sums();
       slot[t].d2 = d2;
       if (last) {
         if (t == 0) completed = k;

@@ -34,7 +34,9 @@ struct SystemOptions {
 /// Structure of arrays of all disks: grains [0, n_grains), frozen disks after them.
 struct ParticleArrays {
   std::vector<double> x, y, vx, vy, w, ax, ay, alpha, r, inv_m, inv_i, mass;
-  std::vector<double> x_build, y_build;  ///< positions at the last neighbour-list build
+  /// Positions at the last neighbour-list build, rounded to float (the displacement check
+  /// adds a bound on the rounding, DemSystem::build_round_; half the memory traffic).
+  std::vector<float> x_build, y_build;
 };
 
 /// The intruder: a disk with prescribed velocity and angular velocity.
@@ -155,8 +157,8 @@ class DemSystem {
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
   double finish_rows(int lo, int hi, Kick mode);
-  /// One thread: set the per-particle sums of the touching pairs of this step back to zero.
-  void clear_scatter_sums();
+  template <bool kScatter, Kick kMode>
+  double finish_impl(int lo, int hi);
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
@@ -192,6 +194,11 @@ class DemSystem {
   IntruderContacts ic_;
   IntruderContacts ic_old_;
   std::vector<int> ic_slot_;  ///< per grain: index in ic_ or -1
+  std::vector<std::uint8_t> ic_candidate_;  ///< per grain: 1 if ic_slot_ >= 0
+  /// per grain: 1 if a listed pair of the grain touches at this step (set by the pair loop,
+  /// cleared by the final kick; the kick of a grain without contact reads no pair force)
+  std::vector<std::uint8_t> touched_;
+  double build_round_ = 0;  ///< m, bound on the float rounding of x_build, y_build
   double ifx_ = 0, ify_ = 0, itq_ = 0;
   int intruder_touching_ = 0;
   double max_overlap_ = 0;
