@@ -53,7 +53,8 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   p_.x_build.assign(n, 0.0f);
   p_.y_build.assign(n, 0.0f);
   touched_.assign(static_cast<std::size_t>(n_grains_), 0);
-  ic_candidate_.assign(static_cast<std::size_t>(n_grains_), 0);
+  // accelerations are 0 now, not the no-force values: mark them all as "set"
+  grain_flags_.assign(static_cast<std::size_t>(n_grains_), kAccelSet);
   // bound on |float(x) - x| over the box: the displacement check stays conservative
   build_round_ = 0;
   for (double c : {opt_.box.xmin, opt_.box.xmax, opt_.box.ymin, opt_.box.ymax}) {
@@ -78,6 +79,10 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
       p_.mass[i] = d.mass;
       p_.inv_m[i] = 1.0 / d.mass;
       p_.inv_i[i] = 2.0 / (d.mass * d.r * d.r);  // disk: I = m r^2 / 2
+      if (!std::isfinite(d.mass) || !std::isfinite(d.r) || !std::isfinite(p_.inv_m[i]) ||
+          !std::isfinite(p_.inv_i[i])) {
+        throw ConfigError("every grain needs a finite mass, radius, 1/mass and 1/inertia");
+      }
     }
   }
   skin_ = opt_.skin > 0 ? opt_.skin : 0.2 * rmax;
@@ -178,7 +183,7 @@ void DemSystem::build_lists() {
   // Intruder candidates: grains within R + r + skin, in index order, history carried over.
   for (int g : ic_.grain) {
     ic_slot_[g] = -1;
-    ic_candidate_[g] = 0;
+    grain_flags_[g] &= static_cast<std::uint8_t>(~kCandidate);
   }
   std::swap(ic_, ic_old_);
   ic_.grain.clear();
@@ -201,7 +206,7 @@ void DemSystem::build_lists() {
   std::size_t a = 0;
   for (std::size_t b = 0; b < nc; ++b) {
     ic_slot_[ic_.grain[b]] = static_cast<int>(b);
-    ic_candidate_[ic_.grain[b]] = 1;
+    grain_flags_[ic_.grain[b]] |= kCandidate;
     while (a < ic_old_.grain.size() && ic_old_.grain[a] < ic_.grain[b]) ++a;
     if (a < ic_old_.grain.size() && ic_old_.grain[a] == ic_.grain[b]) {
       ic_.sx[b] = ic_old_.sx[a];
@@ -438,7 +443,7 @@ double DemSystem::finish_impl(int lo, int hi) {
   const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
   std::uint8_t* touched = touched_.data();
-  const std::uint8_t* candidate = ic_candidate_.data();
+  std::uint8_t* flags = grain_flags_.data();
   double* sfx = fx_.data();
   double* sfy = fy_.data();
   double* sq = tq_.data();
@@ -458,8 +463,26 @@ double DemSystem::finish_impl(int lo, int hi) {
   const double* inv_i = p_.inv_i.data();
   const float* xb = p_.x_build.data();
   const float* yb = p_.y_build.data();
+  // The accelerations of a grain with no contact at all (no touching pair, not touching the
+  // intruder), bit for bit what the general expressions give for zero forces: fx = +0.0,
+  // so fx / m + gx = +0.0 + gx; torque -r (+0.0) = -0.0, so alpha = -0.0 (m, r, 1/m and 1/I
+  // are positive and finite, checked by set_bodies).
+  const double ax0 = 0.0 + gx, ay0 = 0.0 + gy, al0 = -0.0;
   double maxd2 = 0;
   for (int i = lo; i < hi; ++i) {
+    double axn, ayn, aln;
+    const std::uint8_t fl = flags[i];
+    if (!touched[i] && !(fl & kCandidate)) {
+      axn = ax0;
+      ayn = ay0;
+      aln = al0;
+      if (fl & kAccelSet) {
+        ax[i] = axn;
+        ay[i] = ayn;
+        al[i] = aln;
+        flags[i] = static_cast<std::uint8_t>(fl & ~kAccelSet);
+      }
+    } else {
     // a grain with no touching pair has exactly zero pair force (+0.0, as the sums below)
     double fx = 0, fy = 0, qs = 0;
     if (touched[i]) {
@@ -487,20 +510,19 @@ double DemSystem::finish_impl(int lo, int hi) {
       }
     }
     double tq = -r[i] * qs;
-    if (candidate[i]) {
+    if (fl & kCandidate) {
       const int c = slot[i];
       fx += icfx[c];
       fy += icfy[c];
       tq -= r[i] * icft[c];  // n x F_t = ft for F_t = ft (-n_y, n_x)
     }
-    const double axn = fx * inv_m[i] + gx;
-    const double ayn = fy * inv_m[i] + gy;
-    const double aln = tq * inv_i[i];
-    // most grains keep their acceleration bit for bit (no contact): no store, no dirty line
-    if (bits(ax[i]) != bits(axn) || bits(ay[i]) != bits(ayn) || bits(al[i]) != bits(aln)) {
-      ax[i] = axn;
-      ay[i] = ayn;
-      al[i] = aln;
+    axn = fx * inv_m[i] + gx;
+    ayn = fy * inv_m[i] + gy;
+    aln = tq * inv_i[i];
+    ax[i] = axn;
+    ay[i] = ayn;
+    al[i] = aln;
+    flags[i] = static_cast<std::uint8_t>(fl | kAccelSet);
     }
     if (kMode == Kick::first) continue;
     // second half kick: v(t+dt)
@@ -521,9 +543,10 @@ double DemSystem::finish_impl(int lo, int hi) {
       const double d2 = dx * dx + dy * dy;
       if (d2 > maxd2) maxd2 = d2;
     }
-    vx[i] = vxi;
-    vy[i] = vyi;
-    w[i] = wi;
+    // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
+    if (bits(vx[i]) != bits(vxi)) vx[i] = vxi;
+    if (bits(vy[i]) != bits(vyi)) vy[i] = vyi;
+    if (bits(w[i]) != bits(wi)) w[i] = wi;
   }
   return maxd2;
 }

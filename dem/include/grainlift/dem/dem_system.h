@@ -194,7 +194,10 @@ class DemSystem {
   IntruderContacts ic_;
   IntruderContacts ic_old_;
   std::vector<int> ic_slot_;  ///< per grain: index in ic_ or -1
-  std::vector<std::uint8_t> ic_candidate_;  ///< per grain: 1 if ic_slot_ >= 0
+  /// per grain: kCandidate if ic_slot_ >= 0; kAccelSet unless ax, ay, alpha hold exactly the
+  /// accelerations of a grain without any force (then the final kick need not store them)
+  std::vector<std::uint8_t> grain_flags_;
+  static constexpr std::uint8_t kCandidate = 1, kAccelSet = 2;
   /// per grain: 1 if a listed pair of the grain touches at this step (set by the pair loop,
   /// cleared by the final kick; the kick of a grain without contact reads no pair force)
   std::vector<std::uint8_t> touched_;
