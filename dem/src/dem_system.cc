@@ -9,6 +9,14 @@
 //      are therefore all at t+dt (for the intruder, whose motion is prescribed, they are exact);
 //   3. second half kick: v(t+dt) = v(t+dt/2) + dt/2 a(t+dt).
 // Without velocity-dependent forces this is plain velocity Verlet (symplectic).
+//
+// How it runs (advance(n); step() is advance(1)): one OpenMP parallel region per n steps, or
+// per list rebuild, with two barriers per step. Work is handed out in chunks of kChunkRows
+// grains (item 0: the intruder) from a shared counter; which thread takes which chunk does
+// not change a bit of the results (every per-grain sum is taken in pair order, see
+// chunk_forces and finish_impl). Inside advance(), stage 3 of one step and stage 1 of the
+// next are one pass over the particle arrays (finish_impl<.., Kick::drift>); the last step
+// of a call ends with stage 3 alone, so the state between calls is that of single steps.
 #include "grainlift/dem/dem_system.h"
 
 #include <algorithm>

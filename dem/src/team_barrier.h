@@ -6,14 +6,17 @@
 // thread that is descheduled holds up the spinning one for a whole scheduler slice at every
 // barrier, and the spinning thread keeps its core from the process that displaced its partner:
 // two threads ran 60x slower than one. OMP_WAIT_POLICY=passive avoids that but sleeps at every
-// barrier, which cost 45% on an idle machine. This barrier spins for about kSpinNs (long
-// enough for the imbalance of one phase of a step on an idle machine), then sleeps, and the
-// last thread to arrive wakes the sleepers only when there are any.
+// barrier, which cost 45% on an idle machine. This barrier spins for about kSpinNs = 20 us
+// (about two chunks of work: the imbalance of one phase of a step, whose chunks are handed
+// out dynamically), then sleeps, and the last thread to arrive wakes the sleepers only when
+// there are any. Under a load of 8 to 10 on two cores, 10 to 20 us were 2 to 3x faster than
+// 50 us and 5 to 10x faster than 1 ms (docs/performance.md).
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <climits>
+#include <cstdlib>
 
 #if defined(__linux__)
 #include <linux/futex.h>
@@ -30,10 +33,12 @@ namespace grainlift::dem::detail {
 
 class TeamBarrier {
  public:
-  /// Spin for about this long before sleeping (measured: see docs/performance.md).
-  static constexpr long long kSpinNs = 50000;
+  /// Spin for about this long before sleeping (see docs/performance.md); the environment
+  /// variable GRAINLIFT_BARRIER_SPIN_US overrides it (0: sleep at once, like
+  /// OMP_WAIT_POLICY=passive).
+  static constexpr long long kSpinNs = 20000;
 
-  explicit TeamBarrier(int threads) : threads_(threads) {}
+  explicit TeamBarrier(int threads) : threads_(threads), spin_ns_(spin_ns()) {}
 
   /// @brief Wait for all threads; the last one to arrive runs on_release() before it lets the
   /// others go (with the memory effects of all threads before the barrier visible to it).
@@ -57,7 +62,7 @@ class TeamBarrier {
       if (gen_.load(std::memory_order_acquire) != g) return;
       pause();
       if ((n & 63) == 0 &&
-          std::chrono::steady_clock::now() - t0 > std::chrono::nanoseconds(kSpinNs)) {
+          std::chrono::steady_clock::now() - t0 > std::chrono::nanoseconds(spin_ns_)) {
         break;
       }
     }
@@ -71,6 +76,13 @@ class TeamBarrier {
   }
 
  private:
+  static long long spin_ns() {
+    static const long long ns = [] {
+      const char* e = std::getenv("GRAINLIFT_BARRIER_SPIN_US");
+      return e ? static_cast<long long>(std::atof(e) * 1000.0) : kSpinNs;
+    }();
+    return ns;
+  }
   static void pause() {
 #if defined(__x86_64__) || defined(__i386__)
     _mm_pause();
@@ -93,6 +105,7 @@ class TeamBarrier {
   }
 
   const int threads_;
+  const long long spin_ns_;
   alignas(64) std::atomic<int> count_{0};
   alignas(64) std::atomic<unsigned> gen_{0};
   alignas(64) std::atomic<int> sleepers_{0};
