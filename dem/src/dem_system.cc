@@ -309,60 +309,80 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       forget(k);
     }
   }
-  // Pass 2: the contact law on the touching pairs, in pair order.
-  for (const std::int64_t k : touching) {
-    const int i = owner[k], j = partner[k];
-    const double ri = r[i], rj = r[j];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    box.min_image(dx, dy);
-    const double rs = ri + rj;
-    const double dist = std::sqrt(dx * dx + dy * dy);
-    const double inv_dist = 1.0 / dist;
-    ContactKinematics kin;
-    kin.nx = dx * inv_dist;
-    kin.ny = dy * inv_dist;
-    kin.delta = rs - dist;
-    kin.r_eff = ri * rj / rs;
-    kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
-    kin.mu = mu;
-    const double tx = -kin.ny, ty = kin.nx;
-    // predicted relative velocity of the contact point at t+dt
-    const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
-    const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
-    const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
-    kin.vn = vrx * kin.nx + vry * kin.ny;
-    kin.vtx = vrx - kin.vn * kin.nx;
-    kin.vty = vry - kin.vn * kin.ny;
-    // displacement of the contact point over the step (half-step velocities)
-    const double wh = w[i] * ri + w[j] * rj;
-    kin.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
-    kin.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
-    ContactForce f;
-    contact_force(law, kin, sx[k], sy[k], f);
-    const double qk = kin.nx * f.fty - kin.ny * f.ftx;
-    if (store) {
-      pfx[k] = f.fx;
-      pfy[k] = f.fy;
-      pq[k] = qk;
+  // Pass 2: the contact law on the touching pairs, in pair order, in batches of kBatch: the
+  // kinematics of the batch, then the law on each (independent contacts, so that the long
+  // chains of divisions and square roots of several contacts overlap), then the sums. Every
+  // contact goes through the same operations as one at a time: the same bits.
+  constexpr std::size_t kBatch = 32;
+  ContactKinematics kin[kBatch];
+  ContactForce f[kBatch];
+  double bsx[kBatch], bsy[kBatch];
+  const std::size_t nt = touching.size();
+  for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
+    const std::size_t nb = std::min(kBatch, nt - b0);
+    const std::int64_t* kb = touching.data() + b0;
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::int64_t k = kb[b];
+      const int i = owner[k], j = partner[k];
+      const double ri = r[i], rj = r[j];
+      double dx = x[i] - x[j], dy = y[i] - y[j];
+      box.min_image(dx, dy);
+      const double rs = ri + rj;
+      const double dist = std::sqrt(dx * dx + dy * dy);
+      const double inv_dist = 1.0 / dist;
+      ContactKinematics& kn = kin[b];
+      kn.nx = dx * inv_dist;
+      kn.ny = dy * inv_dist;
+      kn.delta = rs - dist;
+      kn.r_eff = ri * rj / rs;
+      kn.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+      kn.mu = mu;
+      const double tx = -kn.ny, ty = kn.nx;
+      // predicted relative velocity of the contact point at t+dt
+      const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
+      const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
+      const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
+      kn.vn = vrx * kn.nx + vry * kn.ny;
+      kn.vtx = vrx - kn.vn * kn.nx;
+      kn.vty = vry - kn.vn * kn.ny;
+      // displacement of the contact point over the step (half-step velocities)
+      const double wh = w[i] * ri + w[j] * rj;
+      kn.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
+      kn.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
+      bsx[b] = sx[k];
+      bsy[b] = sy[k];
     }
-    if (scatter) {
-      sfx[i] += f.fx;
-      sfy[i] += f.fy;
-      sq[i] += qk;
-      touched[i] = 1;
-      if (j < ng) {
-        sfx[j] -= f.fx;
-        sfy[j] -= f.fy;
-        sq[j] += qk;
-        touched[j] = 1;
+    for (std::size_t b = 0; b < nb; ++b) contact_force(law, kin[b], bsx[b], bsy[b], f[b]);
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::int64_t k = kb[b];
+      const int i = owner[k], j = partner[k];
+      sx[k] = bsx[b];
+      sy[k] = bsy[b];
+      const double qk = kin[b].nx * f[b].fty - kin[b].ny * f[b].ftx;
+      if (store) {
+        pfx[k] = f[b].fx;
+        pfy[k] = f[b].fy;
+        pq[k] = qk;
       }
-    } else {
-      // several threads may mark the same grain (same value): relaxed atomic byte stores
-      __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
-      if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
+      if (scatter) {
+        sfx[i] += f[b].fx;
+        sfy[i] += f[b].fy;
+        sq[i] += qk;
+        touched[i] = 1;
+        if (j < ng) {
+          sfx[j] -= f[b].fx;
+          sfy[j] -= f[b].fy;
+          sq[j] += qk;
+          touched[j] = 1;
+        }
+      } else {
+        // several threads may mark the same grain (same value): relaxed atomic byte stores
+        __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
+        if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
+      }
+      const double ov = kin[b].delta / (2.0 * std::min(r[i], r[j]));
+      if (ov > max_ov) max_ov = ov;
     }
-    const double ov = kin.delta / (2.0 * std::min(ri, rj));
-    if (ov > max_ov) max_ov = ov;
   }
 }
 
