@@ -132,6 +132,7 @@ void DemSystem::scale_grain_radii(double factor) {
     rmax = std::max(rmax, p_.r[i]);
   }
   if (factor > 1) growth_since_build_ += rmax * (1.0 - 1.0 / factor);
+  radii_scaled_ = true;  // the pair constants of the list are stale until the next build
 }
 
 void DemSystem::zero_velocities() {
@@ -233,6 +234,21 @@ void DemSystem::build_lists() {
     touch_prev_[c].reserve(np);
   }
   full_history_check_ = true;  // pair indices changed; histories were carried over
+  {
+    const std::size_t np = nl_.pairs();
+    pair_reff_.resize(np);
+    pair_meff_.resize(np);
+    const double* r = p_.r.data();
+    const double* inv_m = p_.inv_m.data();
+    for (std::size_t k = 0; k < np; ++k) {
+      const int i = nl_.owner[k], j = nl_.partner[k];
+      const double ri = r[i], rj = r[j];
+      const double rs = ri + rj;
+      pair_reff_[k] = ri * rj / rs;
+      pair_meff_[k] = 1.0 / (inv_m[i] + inv_m[j]);
+    }
+    radii_scaled_ = false;
+  }
   growth_since_build_ = 0;
   ++builds_;
 }
@@ -314,6 +330,11 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   // chains of divisions and square roots of several contacts overlap), then the sums. Every
   // contact goes through the same operations as one at a time: the same bits.
   constexpr std::size_t kBatch = 32;
+  // r_eff and m_eff of each pair, computed by the same expressions at the list build (valid
+  // until a radius changes)
+  const bool pair_consts = !radii_scaled_;
+  const double* reff = pair_reff_.data();
+  const double* meff = pair_meff_.data();
   ContactKinematics kin[kBatch];
   ContactForce f[kBatch];
   double bsx[kBatch], bsy[kBatch];
@@ -334,8 +355,13 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       kn.nx = dx * inv_dist;
       kn.ny = dy * inv_dist;
       kn.delta = rs - dist;
-      kn.r_eff = ri * rj / rs;
-      kn.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+      if (pair_consts) {
+        kn.r_eff = reff[k];
+        kn.m_eff = meff[k];
+      } else {
+        kn.r_eff = ri * rj / rs;
+        kn.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+      }
       kn.mu = mu;
       const double tx = -kn.ny, ty = kn.nx;
       // predicted relative velocity of the contact point at t+dt
@@ -380,8 +406,13 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
         __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
         if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
       }
-      const double ov = kin[b].delta / (2.0 * std::min(r[i], r[j]));
-      if (ov > max_ov) max_ov = ov;
+      // largest overlap fraction: the division only where it can raise the maximum (the
+      // pre-test has a margin far above the rounding of either side)
+      const double dmin = 2.0 * std::min(r[i], r[j]);
+      if (kin[b].delta > max_ov * dmin * (1.0 - 1e-12)) {
+        const double ov = kin[b].delta / dmin;
+        if (ov > max_ov) max_ov = ov;
+      }
     }
   }
 }

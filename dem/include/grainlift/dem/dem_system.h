@@ -188,6 +188,9 @@ class DemSystem {
   /// the step before (touch_prev_), except after a list build or a change of
   /// store_pair_forces_: then the next force pass checks every pair.
   bool full_history_check_ = true;
+  /// per listed pair: r_i r_j / (r_i + r_j) and 1 / (1/m_i + 1/m_j), set at the build
+  std::vector<double> pair_reff_, pair_meff_;
+  bool radii_scaled_ = false;  ///< a radius changed since the build: pair constants stale
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
   Intruder intruder_;
