@@ -7,8 +7,8 @@
 // barrier, and the spinning thread keeps its core from the process that displaced its partner:
 // two threads ran 60x slower than one. OMP_WAIT_POLICY=passive avoids that but sleeps at every
 // barrier, which cost 45% on an idle machine. This barrier spins for about kSpinNs = 20 us
-// (about two chunks of work: the imbalance of one phase of a step, whose chunks are handed
-// out dynamically), then sleeps, and the last thread to arrive wakes the sleepers only when
+// (two to four chunks of work: about the imbalance of one phase of a step, whose chunks are
+// handed out dynamically), then sleeps, and the last thread to arrive wakes the sleepers only when
 // there are any. Under a load of 8 to 10 on two cores, 10 to 20 us were 2 to 3x faster than
 // 50 us and 5 to 10x faster than 1 ms (docs/performance.md).
 #pragma once
