@@ -736,7 +736,11 @@ long long DemSystem::run_segment(long long m) {
       double md2 = 0;
       for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
       const double md = std::sqrt(md2) + build_round_ + growth_since_build_;
-      if (2.0 * md > skin_ || idisp + md > skin_) {
+      // Right after a build (re-entry after a rebuild) the lists are fresh whatever the bound
+      // says; without this a box so large that the float rounding of the build positions
+      // (build_round_) exceeded skin / 2 would rebuild forever instead of every step.
+      const bool fresh = was_drifted && k == 0;
+      if (!fresh && (2.0 * md > skin_ || idisp + md > skin_)) {
         if (t == 0) rebuild = true;
         break;
       }
