@@ -63,12 +63,6 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   touched_.assign(static_cast<std::size_t>(n_grains_), 0);
   // accelerations are 0 now, not the no-force values: mark them all as "set"
   grain_flags_.assign(static_cast<std::size_t>(n_grains_), kAccelSet);
-  // bound on |float(x) - x| over the box: the displacement check stays conservative
-  build_round_ = 0;
-  for (double c : {opt_.box.xmin, opt_.box.xmax, opt_.box.ymin, opt_.box.ymax}) {
-    build_round_ = std::max(build_round_, std::fabs(c));
-  }
-  build_round_ *= 2.0 * 0x1.0p-24;  // 2 x (half an ulp of a float, relative), both axes
   double rmax = 0;
   for (int i = 0; i < n_total_; ++i) {
     const bool is_grain = i < n_grains_;
@@ -185,10 +179,16 @@ double DemSystem::normal_elastic_energy() const {
 void DemSystem::build_lists() {
   nl_.build(opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), n_grains_, n_total_, skin_,
             team_);
+  // Build positions in float, and a bound on |float(x) - x| for the displacement check (which
+  // stays conservative): half an ulp of a float relative to the largest coordinate (grains
+  // need not stay in the box along a direction without walls), for both axes.
+  double cmax = 0;
   for (int i = 0; i < n_total_; ++i) {
     p_.x_build[i] = static_cast<float>(p_.x[i]);
     p_.y_build[i] = static_cast<float>(p_.y[i]);
+    cmax = std::max(cmax, std::max(std::fabs(p_.x[i]), std::fabs(p_.y[i])));
   }
+  build_round_ = 2.0 * 0x1.0p-24 * cmax;
   // Intruder candidates: grains within R + r + skin, in index order, history carried over.
   for (int g : ic_.grain) {
     ic_slot_[g] = -1;
