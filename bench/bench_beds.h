@@ -10,7 +10,8 @@ namespace grainlift::bench {
 /// Kumar's geometry scaled down: a box of w x h mean diameters (d = 0.02 m), walls of frozen
 /// disks top and bottom, periodic in x, intruder of 5 d at the origin moving at 1 m/s with
 /// Omega = 2; Kumar's Table I contact law, dt = 2e-6 s. Dense: 180 d x 140 d at Phi 0.82
-/// (~26,000 disks); dilute: 260 d x 200 d at Phi 0.35 (~23,000 disks).
+/// (~26,000 disks); dilute: 260 d x 200 d at Phi 0.35 (~23,000 disks); jammed: 180 d x 140 d
+/// at Phi 0.86 (~27,000 disks, compressed above jamming: about two contacts per grain).
 inline dem::DemConfig bed_config(double phi) {
   dem::DemConfig c;
   const double d = c.grain_diameter;

@@ -10,7 +10,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: %s <phi: 0.82 or 0.35> <file.data>\n", argv[0]);
+    std::fprintf(stderr, "usage: %s <phi: 0.82, 0.35 or 0.86> <file.data>\n", argv[0]);
     return 2;
   }
   namespace gd = grainlift::dem;

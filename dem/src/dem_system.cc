@@ -9,16 +9,37 @@
 //      are therefore all at t+dt (for the intruder, whose motion is prescribed, they are exact);
 //   3. second half kick: v(t+dt) = v(t+dt/2) + dt/2 a(t+dt).
 // Without velocity-dependent forces this is plain velocity Verlet (symplectic).
+//
+// How it runs (advance(n); step() is advance(1)): one OpenMP parallel region per n steps, or
+// per list rebuild, with two barriers per step. Work is handed out in chunks of kChunkRows
+// grains (item 0: the intruder) from a shared counter; which thread takes which chunk does
+// not change a bit of the results (every per-grain sum is taken in pair order, see
+// chunk_forces and finish_impl). Inside advance(), stage 3 of one step and stage 1 of the
+// next are one pass over the particle arrays (finish_impl<.., Kick::drift>); the last step
+// of a call ends with stage 3 alone, so the state between calls is that of single steps.
 #include "grainlift/dem/dem_system.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include <omp.h>
 
 #include "grainlift/dem/errors.h"
+#include "team_barrier.h"
 
 namespace grainlift::dem {
+
+namespace {
+/// The bits of a double (a comparison that tells -0.0 from +0.0).
+inline std::uint64_t bits(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+}  // namespace
 
 DemSystem::DemSystem(const SystemOptions& options) : opt_(options) {
   law_ = LawCoefficients::from(options.contact);
@@ -34,9 +55,14 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   n_total_ = n_grains_ + static_cast<int>(frozen.size());
   const std::size_t n = static_cast<std::size_t>(n_total_);
   for (auto* v : {&p_.x, &p_.y, &p_.vx, &p_.vy, &p_.w, &p_.ax, &p_.ay, &p_.alpha, &p_.r,
-                  &p_.inv_m, &p_.inv_i, &p_.mass, &p_.x_build, &p_.y_build, &fx_, &fy_, &tq_}) {
+                  &p_.inv_m, &p_.inv_i, &p_.mass, &fx_, &fy_, &tq_}) {
     v->assign(n, 0.0);
   }
+  p_.x_build.assign(n, 0.0f);
+  p_.y_build.assign(n, 0.0f);
+  touched_.assign(static_cast<std::size_t>(n_grains_), 0);
+  // accelerations are 0 now, not the no-force values: mark them all as "set"
+  grain_flags_.assign(static_cast<std::size_t>(n_grains_), kAccelSet);
   double rmax = 0;
   for (int i = 0; i < n_total_; ++i) {
     const bool is_grain = i < n_grains_;
@@ -55,11 +81,15 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
       p_.mass[i] = d.mass;
       p_.inv_m[i] = 1.0 / d.mass;
       p_.inv_i[i] = 2.0 / (d.mass * d.r * d.r);  // disk: I = m r^2 / 2
+      if (!std::isfinite(d.mass) || !std::isfinite(d.r) || !std::isfinite(p_.inv_m[i]) ||
+          !std::isfinite(p_.inv_i[i])) {
+        throw ConfigError("every grain needs a finite mass, radius, 1/mass and 1/inertia");
+      }
     }
   }
   skin_ = opt_.skin > 0 ? opt_.skin : 0.2 * rmax;
   // Below ~kMinGrainsPerThread grains per thread the fork-join costs more than it saves.
-  team_ = std::max(1, std::min(opt_.threads, n_grains_ / kMinGrainsPerThread));
+  team_ = std::max(1, std::min({opt_.threads, n_grains_ / kMinGrainsPerThread, kMaxTeam}));
   nl_.clear();
   ic_ = IntruderContacts{};
   ic_old_ = IntruderContacts{};
@@ -96,6 +126,7 @@ void DemSystem::scale_grain_radii(double factor) {
     rmax = std::max(rmax, p_.r[i]);
   }
   if (factor > 1) growth_since_build_ += rmax * (1.0 - 1.0 / factor);
+  radii_scaled_ = true;  // the pair constants of the list are stale until the next build
 }
 
 void DemSystem::zero_velocities() {
@@ -148,12 +179,21 @@ double DemSystem::normal_elastic_energy() const {
 void DemSystem::build_lists() {
   nl_.build(opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), n_grains_, n_total_, skin_,
             team_);
+  // Build positions in float, and a bound on |float(x) - x| for the displacement check (which
+  // stays conservative): half an ulp of a float relative to the largest coordinate (grains
+  // need not stay in the box along a direction without walls), for both axes.
+  double cmax = 0;
   for (int i = 0; i < n_total_; ++i) {
-    p_.x_build[i] = p_.x[i];
-    p_.y_build[i] = p_.y[i];
+    p_.x_build[i] = static_cast<float>(p_.x[i]);
+    p_.y_build[i] = static_cast<float>(p_.y[i]);
+    cmax = std::max(cmax, std::max(std::fabs(p_.x[i]), std::fabs(p_.y[i])));
   }
+  build_round_ = 2.0 * 0x1.0p-24 * cmax;
   // Intruder candidates: grains within R + r + skin, in index order, history carried over.
-  for (int g : ic_.grain) ic_slot_[g] = -1;
+  for (int g : ic_.grain) {
+    ic_slot_[g] = -1;
+    grain_flags_[g] &= static_cast<std::uint8_t>(~kCandidate);
+  }
   std::swap(ic_, ic_old_);
   ic_.grain.clear();
   if (intruder_.present) {
@@ -175,20 +215,45 @@ void DemSystem::build_lists() {
   std::size_t a = 0;
   for (std::size_t b = 0; b < nc; ++b) {
     ic_slot_[ic_.grain[b]] = static_cast<int>(b);
+    grain_flags_[ic_.grain[b]] |= kCandidate;
     while (a < ic_old_.grain.size() && ic_old_.grain[a] < ic_.grain[b]) ++a;
     if (a < ic_old_.grain.size() && ic_old_.grain[a] == ic_.grain[b]) {
       ic_.sx[b] = ic_old_.sx[a];
       ic_.sy[b] = ic_old_.sy[a];
     }
   }
-  // touching-pair scratch of the force loop: sized here so that the step does not allocate
-  touch_.resize(std::max<std::size_t>(touch_.size(), static_cast<std::size_t>(team_)));
-  for (auto& v : touch_) v.reserve(nl_.pairs());
+  // touching-pair scratch of the force loop, one list per chunk of rows: sized here so that
+  // the step does not allocate
+  const int nc_rows = chunks();
+  touch_.resize(static_cast<std::size_t>(nc_rows));
+  touch_prev_.resize(static_cast<std::size_t>(nc_rows));
+  for (int c = 0; c < nc_rows; ++c) {
+    const int lo = c * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
+    const auto np = static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]);
+    touch_[c].reserve(np);
+    touch_prev_[c].reserve(np);
+  }
+  full_history_check_ = true;  // pair indices changed; histories were carried over
+  {
+    const std::size_t np = nl_.pairs();
+    pair_reff_.resize(np);
+    pair_meff_.resize(np);
+    const double* r = p_.r.data();
+    const double* inv_m = p_.inv_m.data();
+    for (std::size_t k = 0; k < np; ++k) {
+      const int i = nl_.owner[k], j = nl_.partner[k];
+      const double ri = r[i], rj = r[j];
+      const double rs = ri + rj;
+      pair_reff_[k] = ri * rj / rs;
+      pair_meff_[k] = 1.0 / (inv_m[i] + inv_m[j]);
+    }
+    radii_scaled_ = false;
+  }
   growth_since_build_ = 0;
   ++builds_;
 }
 
-void DemSystem::compute_forces(double spring_dt) {
+void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   const double h = 0.5 * spring_dt;  // predicted v(t+dt) = v(t+dt/2) + h a(t)
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
@@ -204,7 +269,7 @@ void DemSystem::compute_forces(double spring_dt) {
   const double* ay = p_.ay.data();
   const double* al = p_.alpha.data();
   const double* inv_m = p_.inv_m.data();
-  const std::int64_t* first = nl_.first.data();
+  const int* owner = nl_.owner.data();
   const int* partner = nl_.partner.data();
   double* sx = nl_.sx.data();
   double* sy = nl_.sy.data();
@@ -212,7 +277,6 @@ void DemSystem::compute_forces(double spring_dt) {
   double* pfy = nl_.fy.data();
   double* pq = nl_.q.data();
   const int ng = n_grains_;
-  double max_ov = max_overlap_;
   // One thread: sum per particle in the pair loop itself (Newton's third law), no gather.
   // The order of the additions is that of the gather of the threaded path (pairs where the
   // particle is the partner, by pair index, then its own row), so the results are the same.
@@ -221,156 +285,215 @@ void DemSystem::compute_forces(double spring_dt) {
   double* sfx = fx_.data();
   double* sfy = fy_.data();
   double* sq = tq_.data();
-  if (scatter) {
-    std::fill(fx_.begin(), fx_.begin() + ng, 0.0);
-    std::fill(fy_.begin(), fy_.begin() + ng, 0.0);
-    std::fill(tq_.begin(), tq_.begin() + ng, 0.0);
+  std::uint8_t* touched = touched_.data();
+  const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
+  const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
+  std::vector<std::int64_t>& touching = touch_[chunk];
+  std::vector<std::int64_t>& before = touch_prev_[chunk];
+  touching.swap(before);
+  touching.clear();
+  // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
+  // a relaxed bed are apart); no stores but the list of touching pairs.
+  for (std::int64_t k = k0; k < k1; ++k) {
+    const int i = owner[k], j = partner[k];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    box.min_image(dx, dy);
+    const double rs = r[i] + r[j];
+    if (dx * dx + dy * dy < rs * rs) touching.push_back(k);
   }
-
-  if (touch_.size() < static_cast<std::size_t>(team_)) touch_.resize(team_);
-#pragma omp parallel num_threads(team_) reduction(max : max_ov)
-  {
-    // Rows in contiguous blocks, one per thread (the same blocks as a static schedule).
-    const int t = omp_get_thread_num();
-    const int nth = omp_get_num_threads();
-    const int lo = static_cast<int>(static_cast<std::int64_t>(ng) * t / nth);
-    const int hi = static_cast<int>(static_cast<std::int64_t>(ng) * (t + 1) / nth);
-    std::vector<std::int64_t>& touching = touch_[t];
-    touching.clear();
-    // Pass 1: distance checks only (most listed pairs of a relaxed bed are apart). A pair that
-    // is apart forgets its history; only words that are not zero already are written.
-    for (int i = lo; i < hi; ++i) {
-      const double xi = x[i], yi = y[i], ri = r[i];
-      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-        const int j = partner[k];
-        double dx = xi - x[j], dy = yi - y[j];
-        box.min_image(dx, dy);
-        const double rs = ri + r[j];
-        if (dx * dx + dy * dy < rs * rs) {
-          touching.push_back(k);
-          continue;
-        }
-        if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
-        if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
+  // A pair that is apart forgets its history (and its stored force). Only pairs that touched
+  // at the step before can hold any: those that no longer touch are found by a merge of the
+  // two sorted lists; after a list build every pair is checked.
+  auto forget = [&](std::int64_t k) {
+    if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
+    if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
+  };
+  if (full_history_check_) {
+    std::size_t a = 0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+      if (a < touching.size() && touching[a] == k) {
+        ++a;
+        continue;
       }
+      forget(k);
     }
-    // Pass 2: the contact law on the touching pairs, in pair order.
-    int i = lo;
-    for (const std::int64_t k : touching) {
-      while (first[i + 1] <= k) ++i;
-      const int j = partner[k];
+  } else {
+    std::size_t a = 0;
+    for (const std::int64_t k : before) {
+      while (a < touching.size() && touching[a] < k) ++a;
+      if (a < touching.size() && touching[a] == k) continue;
+      forget(k);
+    }
+  }
+  // Pass 2: the contact law on the touching pairs, in pair order, in batches of kBatch: the
+  // kinematics of the batch, then the law on each (independent contacts, so that the long
+  // chains of divisions and square roots of several contacts overlap), then the sums. Every
+  // contact goes through the same operations as one at a time: the same bits.
+  constexpr std::size_t kBatch = 32;
+  // r_eff and m_eff of each pair, computed by the same expressions at the list build (valid
+  // until a radius changes)
+  const bool pair_consts = !radii_scaled_;
+  const double* reff = pair_reff_.data();
+  const double* meff = pair_meff_.data();
+  ContactKinematics kin[kBatch];
+  ContactForce f[kBatch];
+  double bsx[kBatch], bsy[kBatch];
+  const std::size_t nt = touching.size();
+  for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
+    const std::size_t nb = std::min(kBatch, nt - b0);
+    const std::int64_t* kb = touching.data() + b0;
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::int64_t k = kb[b];
+      const int i = owner[k], j = partner[k];
       const double ri = r[i], rj = r[j];
       double dx = x[i] - x[j], dy = y[i] - y[j];
       box.min_image(dx, dy);
       const double rs = ri + rj;
       const double dist = std::sqrt(dx * dx + dy * dy);
       const double inv_dist = 1.0 / dist;
-      ContactKinematics kin;
-      kin.nx = dx * inv_dist;
-      kin.ny = dy * inv_dist;
-      kin.delta = rs - dist;
-      kin.r_eff = ri * rj / rs;
-      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
-      kin.mu = mu;
-      const double tx = -kin.ny, ty = kin.nx;
+      ContactKinematics& kn = kin[b];
+      kn.nx = dx * inv_dist;
+      kn.ny = dy * inv_dist;
+      kn.delta = rs - dist;
+      if (pair_consts) {
+        kn.r_eff = reff[k];
+        kn.m_eff = meff[k];
+      } else {
+        kn.r_eff = ri * rj / rs;
+        kn.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+      }
+      kn.mu = mu;
+      const double tx = -kn.ny, ty = kn.nx;
       // predicted relative velocity of the contact point at t+dt
       const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
       const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
       const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
-      kin.vn = vrx * kin.nx + vry * kin.ny;
-      kin.vtx = vrx - kin.vn * kin.nx;
-      kin.vty = vry - kin.vn * kin.ny;
+      kn.vn = vrx * kn.nx + vry * kn.ny;
+      kn.vtx = vrx - kn.vn * kn.nx;
+      kn.vty = vry - kn.vn * kn.ny;
       // displacement of the contact point over the step (half-step velocities)
       const double wh = w[i] * ri + w[j] * rj;
-      kin.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
-      kin.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
-      ContactForce f;
-      contact_force(law, kin, sx[k], sy[k], f);
-      const double qk = kin.nx * f.fty - kin.ny * f.ftx;
+      kn.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
+      kn.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
+      bsx[b] = sx[k];
+      bsy[b] = sy[k];
+    }
+    for (std::size_t b = 0; b < nb; ++b) contact_force(law, kin[b], bsx[b], bsy[b], f[b]);
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::int64_t k = kb[b];
+      const int i = owner[k], j = partner[k];
+      sx[k] = bsx[b];
+      sy[k] = bsy[b];
+      const double qk = kin[b].nx * f[b].fty - kin[b].ny * f[b].ftx;
       if (store) {
-        pfx[k] = f.fx;
-        pfy[k] = f.fy;
+        pfx[k] = f[b].fx;
+        pfy[k] = f[b].fy;
         pq[k] = qk;
       }
       if (scatter) {
-        sfx[i] += f.fx;
-        sfy[i] += f.fy;
+        sfx[i] += f[b].fx;
+        sfy[i] += f[b].fy;
         sq[i] += qk;
+        touched[i] = 1;
         if (j < ng) {
-          sfx[j] -= f.fx;
-          sfy[j] -= f.fy;
+          sfx[j] -= f[b].fx;
+          sfy[j] -= f[b].fy;
           sq[j] += qk;
+          touched[j] = 1;
         }
+      } else {
+        // several threads may mark the same grain (same value): relaxed atomic byte stores
+        __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
+        if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
       }
-      const double ov = kin.delta / (2.0 * std::min(ri, rj));
-      if (ov > max_ov) max_ov = ov;
+      // largest overlap fraction: the division only where it can raise the maximum (the
+      // pre-test has a margin far above the rounding of either side)
+      const double dmin = 2.0 * std::min(r[i], r[j]);
+      if (kin[b].delta > max_ov * dmin * (1.0 - 1e-12)) {
+        const double ov = kin[b].delta / dmin;
+        if (ov > max_ov) max_ov = ov;
+      }
     }
   }
-
-  // ---- the intruder: its own small loop over its candidates (serial, fixed order)
-  ifx_ = ify_ = itq_ = 0;
-  intruder_touching_ = 0;
-  if (intruder_.present) {
-    const Intruder& in = intruder_;
-    const double t_half = time_ - in.t0 + h;
-    const double t_full = time_ - in.t0 + spring_dt;
-    const double wh_in = in.omega(t_half), wp_in = in.omega(t_full);
-    const double big_r = in.r;
-    for (std::size_t c = 0; c < ic_.grain.size(); ++c) {
-      const int g = ic_.grain[c];
-      double dx = x[g] - in.x, dy = y[g] - in.y;
-      box.min_image(dx, dy);
-      const double rs = r[g] + big_r;
-      const double d2 = dx * dx + dy * dy;
-      if (d2 >= rs * rs) {
-        ic_.sx[c] = ic_.sy[c] = 0;
-        ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = 0;
-        ic_.touching[c] = ic_.slipping[c] = 0;
-        continue;
-      }
-      const double dist = std::sqrt(d2);
-      ContactKinematics kin;
-      kin.nx = dx / dist;
-      kin.ny = dy / dist;
-      kin.delta = rs - dist;
-      kin.r_eff = r[g] * big_r / rs;
-      kin.m_eff = 1.0 / inv_m[g];  // the intruder has infinite mass
-      kin.mu = mu_intruder_;
-      const double tx = -kin.ny, ty = kin.nx;
-      const double wp = (w[g] + h * al[g]) * r[g] + wp_in * big_r;
-      const double vrx = vx[g] + h * ax[g] - in.vx - wp * tx;
-      const double vry = vy[g] + h * ay[g] - in.vy - wp * ty;
-      kin.vn = vrx * kin.nx + vry * kin.ny;
-      kin.vtx = vrx - kin.vn * kin.nx;
-      kin.vty = vry - kin.vn * kin.ny;
-      const double wh = w[g] * r[g] + wh_in * big_r;
-      kin.dsx = spring_dt * (vx[g] - in.vx - wh * tx);
-      kin.dsy = spring_dt * (vy[g] - in.vy - wh * ty);
-      ContactForce f;
-      contact_force(law, kin, ic_.sx[c], ic_.sy[c], f);
-      ic_.fx[c] = f.fx;
-      ic_.fy[c] = f.fy;
-      ic_.fn[c] = f.fn;
-      ic_.ft[c] = f.ftx * tx + f.fty * ty;
-      ic_.nx[c] = kin.nx;
-      ic_.ny[c] = kin.ny;
-      ic_.touching[c] = 1;
-      ic_.slipping[c] = f.slipping ? 1 : 0;
-      ifx_ -= f.fx;
-      ify_ -= f.fy;
-      itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
-      ++intruder_touching_;
-      const double ov = kin.delta / (2.0 * r[g]);
-      if (ov > max_ov) max_ov = ov;
-    }
-  }
-  max_overlap_ = max_ov;
 }
 
-void DemSystem::finish_kick(bool first_call) {
-  const double h = 0.5 * opt_.dt;
+void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
+  const double h = 0.5 * spring_dt;
+  ifx_ = ify_ = itq_ = 0;
+  intruder_touching_ = 0;
+  if (!intruder_.present) return;
+  const PeriodicBox box = opt_.box;
+  const LawCoefficients law = law_;
+  const double* x = p_.x.data();
+  const double* y = p_.y.data();
+  const double* r = p_.r.data();
+  const double* vx = p_.vx.data();
+  const double* vy = p_.vy.data();
+  const double* w = p_.w.data();
+  const double* ax = p_.ax.data();
+  const double* ay = p_.ay.data();
+  const double* al = p_.alpha.data();
+  const double* inv_m = p_.inv_m.data();
+  const Intruder& in = intruder_;
+  const double t_half = time_ - in.t0 + h;
+  const double t_full = time_ - in.t0 + spring_dt;
+  const double wh_in = in.omega(t_half), wp_in = in.omega(t_full);
+  const double big_r = in.r;
+  for (std::size_t c = 0; c < ic_.grain.size(); ++c) {
+    const int g = ic_.grain[c];
+    double dx = x[g] - in.x, dy = y[g] - in.y;
+    box.min_image(dx, dy);
+    const double rs = r[g] + big_r;
+    const double d2 = dx * dx + dy * dy;
+    if (d2 >= rs * rs) {
+      ic_.sx[c] = ic_.sy[c] = 0;
+      ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = 0;
+      ic_.touching[c] = ic_.slipping[c] = 0;
+      continue;
+    }
+    const double dist = std::sqrt(d2);
+    ContactKinematics kin;
+    kin.nx = dx / dist;
+    kin.ny = dy / dist;
+    kin.delta = rs - dist;
+    kin.r_eff = r[g] * big_r / rs;
+    kin.m_eff = 1.0 / inv_m[g];  // the intruder has infinite mass
+    kin.mu = mu_intruder_;
+    const double tx = -kin.ny, ty = kin.nx;
+    const double wp = (w[g] + h * al[g]) * r[g] + wp_in * big_r;
+    const double vrx = vx[g] + h * ax[g] - in.vx - wp * tx;
+    const double vry = vy[g] + h * ay[g] - in.vy - wp * ty;
+    kin.vn = vrx * kin.nx + vry * kin.ny;
+    kin.vtx = vrx - kin.vn * kin.nx;
+    kin.vty = vry - kin.vn * kin.ny;
+    const double wh = w[g] * r[g] + wh_in * big_r;
+    kin.dsx = spring_dt * (vx[g] - in.vx - wh * tx);
+    kin.dsy = spring_dt * (vy[g] - in.vy - wh * ty);
+    ContactForce f;
+    contact_force(law, kin, ic_.sx[c], ic_.sy[c], f);
+    ic_.fx[c] = f.fx;
+    ic_.fy[c] = f.fy;
+    ic_.fn[c] = f.fn;
+    ic_.ft[c] = f.ftx * tx + f.fty * ty;
+    ic_.nx[c] = kin.nx;
+    ic_.ny[c] = kin.ny;
+    ic_.touching[c] = 1;
+    ic_.slipping[c] = f.slipping ? 1 : 0;
+    ifx_ -= f.fx;
+    ify_ -= f.fy;
+    itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
+    ++intruder_touching_;
+    const double ov = kin.delta / (2.0 * r[g]);
+    if (ov > max_ov) max_ov = ov;
+  }
+}
+
+template <bool kScatter, DemSystem::Kick kMode>
+double DemSystem::finish_impl(int lo, int hi) {
+  const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
-  const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * opt_.dt) : 1.0;
+  const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
+  const PeriodicBox box = opt_.box;
   const std::int64_t* first = nl_.first.data();
   const std::int64_t* rfirst = nl_.rfirst.data();
   const std::int64_t* rpair = nl_.rpair.data();
@@ -378,61 +501,170 @@ void DemSystem::finish_kick(bool first_call) {
   const double* pfy = nl_.fy.data();
   const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
-  const int ng = n_grains_;
-  const bool scatter = team_ == 1;
-  const double* sfx = fx_.data();
-  const double* sfy = fy_.data();
-  const double* sq = tq_.data();
-  ParticleArrays& p = p_;
-  const IntruderContacts& ic = ic_;
-#pragma omp parallel for schedule(static) num_threads(team_)
-  for (int i = 0; i < ng; ++i) {
-    double fx = 0, fy = 0, qs = 0;
-    if (scatter) {
-      fx = sfx[i];
-      fy = sfy[i];
-      qs = sq[i];
+  std::uint8_t* touched = touched_.data();
+  std::uint8_t* flags = grain_flags_.data();
+  double* sfx = fx_.data();
+  double* sfy = fy_.data();
+  double* sq = tq_.data();
+  const double* icfx = ic_.fx.data();
+  const double* icfy = ic_.fy.data();
+  const double* icft = ic_.ft.data();
+  double* __restrict px = p_.x.data();
+  double* __restrict py = p_.y.data();
+  double* __restrict vx = p_.vx.data();
+  double* __restrict vy = p_.vy.data();
+  double* __restrict w = p_.w.data();
+  double* __restrict ax = p_.ax.data();
+  double* __restrict ay = p_.ay.data();
+  double* __restrict al = p_.alpha.data();
+  const double* r = p_.r.data();
+  const double* inv_m = p_.inv_m.data();
+  const double* inv_i = p_.inv_i.data();
+  const float* xb = p_.x_build.data();
+  const float* yb = p_.y_build.data();
+  // The accelerations of a grain with no contact at all (no touching pair, not touching the
+  // intruder), bit for bit what the general expressions give for zero forces: fx = +0.0,
+  // so fx / m + gx = +0.0 + gx; torque -r (+0.0) = -0.0, so alpha = -0.0 (m, r, 1/m and 1/I
+  // are positive and finite, checked by set_bodies).
+  const double ax0 = 0.0 + gx, ay0 = 0.0 + gy, al0 = -0.0;
+  double maxd2 = 0;
+  for (int i = lo; i < hi; ++i) {
+    double axn, ayn, aln;
+    const std::uint8_t fl = flags[i];
+    if (!touched[i] && !(fl & kCandidate)) {
+      axn = ax0;
+      ayn = ay0;
+      aln = al0;
+      if (fl & kAccelSet) {
+        ax[i] = axn;
+        ay[i] = ayn;
+        al[i] = aln;
+        flags[i] = static_cast<std::uint8_t>(fl & ~kAccelSet);
+      }
     } else {
-      // pairs where i is the partner (by pair index), then i's own row: the order of the
-      // one-thread scatter in compute_forces
-      for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
-        const std::int64_t k = rpair[s];
-        fx -= pfx[k];
-        fy -= pfy[k];
-        qs += pq[k];
+    // a grain with no touching pair has exactly zero pair force (+0.0, as the sums below)
+    double fx = 0, fy = 0, qs = 0;
+    if (touched[i]) {
+      touched[i] = 0;
+      if (kScatter) {
+        // the sums of this step; zeroed for the next one
+        fx = sfx[i];
+        fy = sfy[i];
+        qs = sq[i];
+        sfx[i] = sfy[i] = sq[i] = 0;
+      } else {
+        // pairs where i is the partner (by pair index), then i's own row: the order of the
+        // one-thread scatter in chunk_forces
+        for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
+          const std::int64_t k = rpair[s];
+          fx -= pfx[k];
+          fy -= pfy[k];
+          qs += pq[k];
+        }
+        for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+          fx += pfx[k];
+          fy += pfy[k];
+          qs += pq[k];
+        }
       }
-      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-        fx += pfx[k];
-        fy += pfy[k];
-        qs += pq[k];
-      }
     }
-    double tq = -p.r[i] * qs;
-    const int c = slot[i];
-    if (c >= 0) {
-      fx += ic.fx[c];
-      fy += ic.fy[c];
-      tq -= p.r[i] * ic.ft[c];  // n x F_t = ft for F_t = ft (-n_y, n_x)
+    double tq = -r[i] * qs;
+    if (fl & kCandidate) {
+      const int c = slot[i];
+      fx += icfx[c];
+      fy += icfy[c];
+      tq -= r[i] * icft[c];  // n x F_t = ft for F_t = ft (-n_y, n_x)
     }
-    const double axn = fx * p.inv_m[i] + gx;
-    const double ayn = fy * p.inv_m[i] + gy;
-    const double aln = tq * p.inv_i[i];
-    if (!first_call) {
-      p.vx[i] = (p.vx[i] + h * axn) * damp;
-      p.vy[i] = (p.vy[i] + h * ayn) * damp;
-      p.w[i] = (p.w[i] + h * aln) * damp;
+    axn = fx * inv_m[i] + gx;
+    ayn = fy * inv_m[i] + gy;
+    aln = tq * inv_i[i];
+    ax[i] = axn;
+    ay[i] = ayn;
+    al[i] = aln;
+    flags[i] = static_cast<std::uint8_t>(fl | kAccelSet);
     }
-    p.ax[i] = axn;
-    p.ay[i] = ayn;
-    p.alpha[i] = aln;
+    if (kMode == Kick::first) continue;
+    // second half kick: v(t+dt)
+    double vxi = (vx[i] + h * axn) * damp;
+    double vyi = (vy[i] + h * ayn) * damp;
+    double wi = (w[i] + h * aln) * damp;
+    if (kMode == Kick::drift) {
+      // the next step's half kick and drift (the same operations as drift_rows)
+      vxi += h * axn;
+      vyi += h * ayn;
+      wi += h * aln;
+      double xi = px[i] + dt * vxi, yi = py[i] + dt * vyi;
+      box.wrap(xi, yi);
+      px[i] = xi;
+      py[i] = yi;
+      double dx = xi - xb[i], dy = yi - yb[i];
+      box.min_image(dx, dy);
+      const double d2 = dx * dx + dy * dy;
+      if (d2 > maxd2) maxd2 = d2;
+    }
+    // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
+    if (bits(vx[i]) != bits(vxi)) vx[i] = vxi;
+    if (bits(vy[i]) != bits(vyi)) vy[i] = vyi;
+    if (bits(w[i]) != bits(wi)) w[i] = wi;
   }
+  return maxd2;
+}
+
+double DemSystem::finish_rows(int lo, int hi, Kick mode) {
+  if (team_ == 1) {
+    if (mode == Kick::drift) return finish_impl<true, Kick::drift>(lo, hi);
+    if (mode == Kick::sync) return finish_impl<true, Kick::sync>(lo, hi);
+    return finish_impl<true, Kick::first>(lo, hi);
+  }
+  if (mode == Kick::drift) return finish_impl<false, Kick::drift>(lo, hi);
+  if (mode == Kick::sync) return finish_impl<false, Kick::sync>(lo, hi);
+  return finish_impl<false, Kick::first>(lo, hi);
+}
+
+double DemSystem::drift_rows(int lo, int hi) {
+  const double dt = opt_.dt, h = 0.5 * dt;
+  const PeriodicBox box = opt_.box;
+  ParticleArrays& p = p_;
+  double maxd2 = 0;
+  for (int i = lo; i < hi; ++i) {
+    p.vx[i] += h * p.ax[i];
+    p.vy[i] += h * p.ay[i];
+    p.w[i] += h * p.alpha[i];
+    double xi = p.x[i] + dt * p.vx[i], yi = p.y[i] + dt * p.vy[i];
+    box.wrap(xi, yi);
+    p.x[i] = xi;
+    p.y[i] = yi;
+    double dx = xi - p.x_build[i], dy = yi - p.y_build[i];
+    box.min_image(dx, dy);
+    const double d2 = dx * dx + dy * dy;
+    if (d2 > maxd2) maxd2 = d2;
+  }
+  return maxd2;
+}
+
+double DemSystem::drift_intruder() {
+  if (!intruder_.present) return 0;
+  const double dt = opt_.dt;
+  const PeriodicBox& box = opt_.box;
+  double xi = intruder_.x + dt * intruder_.vx, yi = intruder_.y + dt * intruder_.vy;
+  box.wrap(xi, yi);
+  intruder_.x = xi;
+  intruder_.y = yi;
+  double dx = xi - intruder_.x_build, dy = yi - intruder_.y_build;
+  box.min_image(dx, dy);
+  return std::sqrt(dx * dx + dy * dy);
 }
 
 void DemSystem::prepare() {
   if (primed_) return;
   build_lists();
-  compute_forces(0.0);
-  finish_kick(true);
+  double max_ov = max_overlap_;
+  intruder_forces(0.0, max_ov);
+  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov);
+  full_history_check_ = false;
+  max_overlap_ = max_ov;
+  finish_rows(0, n_grains_, Kick::first);
+  drifted_ = false;
   primed_ = true;
 }
 
@@ -458,43 +690,103 @@ double DemSystem::current_max_overlap_fraction() const {
   return worst;
 }
 
-void DemSystem::step() {
-  prepare();
-  const double dt = opt_.dt, h = 0.5 * dt;
-  const PeriodicBox& box = opt_.box;
-  ParticleArrays& p = p_;
-  const int ng = n_grains_;
-  double maxd2 = 0;
-#pragma omp parallel for schedule(static) num_threads(team_) reduction(max : maxd2)
-  for (int i = 0; i < ng; ++i) {
-    p.vx[i] += h * p.ax[i];
-    p.vy[i] += h * p.ay[i];
-    p.w[i] += h * p.alpha[i];
-    double xi = p.x[i] + dt * p.vx[i], yi = p.y[i] + dt * p.vy[i];
-    box.wrap(xi, yi);
-    p.x[i] = xi;
-    p.y[i] = yi;
-    double dx = xi - p.x_build[i], dy = yi - p.y_build[i];
-    box.min_image(dx, dy);
-    const double d2 = dx * dx + dy * dy;
-    if (d2 > maxd2) maxd2 = d2;
-  }
+long long DemSystem::run_segment(long long m) {
+  const int team = team_;
+  const int nchunks = chunks();
+  const int items = nchunks + 1;  // work item 0: the intruder; item 1 + c: chunk c
+  const double dt = opt_.dt;
+  detail::TeamBarrier barrier(team);
+  std::atomic<int> next{0};  // dynamic work distribution (results do not depend on it)
+  struct alignas(64) Slot {
+    double d2 = 0;
+  };
+  Slot slot[kMaxTeam];
   double idisp = 0;
-  if (intruder_.present) {
-    double xi = intruder_.x + dt * intruder_.vx, yi = intruder_.y + dt * intruder_.vy;
-    box.wrap(xi, yi);
-    intruder_.x = xi;
-    intruder_.y = yi;
-    double dx = xi - intruder_.x_build, dy = yi - intruder_.y_build;
-    box.min_image(dx, dy);
-    idisp = std::sqrt(dx * dx + dy * dy);
+  bool was_drifted = drifted_;
+  long long completed = 0;
+  bool rebuild = false;
+  double max_ov = max_overlap_;
+  const int rows_per_chunk = kChunkRows;
+  const int ng = n_grains_;
+#pragma omp parallel num_threads(team) reduction(max : max_ov)
+  {
+    const int t = omp_get_thread_num();
+    auto grab = [&] { return team == 1 ? -1 : next.fetch_add(1, std::memory_order_relaxed); };
+    int serial = 0;  // one thread: work items in order without atomics
+    auto take = [&]() -> int { return team == 1 ? serial++ : grab(); };
+    auto reset = [&] {
+      serial = 0;
+      next.store(0, std::memory_order_relaxed);
+    };
+    double d2 = 0;
+    if (!was_drifted) {
+      for (int c; (c = take()) < items;) {
+        if (c == 0) {
+          idisp = drift_intruder();
+        } else {
+          const int lo = (c - 1) * rows_per_chunk;
+          d2 = std::max(d2, drift_rows(lo, std::min(ng, lo + rows_per_chunk)));
+        }
+      }
+    }
+    slot[t].d2 = d2;
+    for (long long k = 0;;) {
+      barrier.wait(reset);
+      // every thread takes the same decision from the same numbers
+      double md2 = 0;
+      for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
+      const double md = std::sqrt(md2) + build_round_ + growth_since_build_;
+      // Right after a build (re-entry after a rebuild) the lists are fresh whatever the bound
+      // says; without this a box so large that the float rounding of the build positions
+      // (build_round_) exceeded skin / 2 would rebuild forever instead of every step.
+      const bool fresh = was_drifted && k == 0;
+      if (!fresh && (2.0 * md > skin_ || idisp + md > skin_)) {
+        if (t == 0) rebuild = true;
+        break;
+      }
+      for (int c; (c = take()) < items;) {
+        if (c == 0) {
+          intruder_forces(dt, max_ov);
+        } else {
+          chunk_forces(c - 1, dt, max_ov);
+        }
+      }
+      barrier.wait(reset);
+      ++k;
+      const bool last = k == m;
+      d2 = 0;
+      for (int c; (c = take()) < items;) {
+        if (c == 0) {
+          time_ += dt;
+          ++steps_;
+          full_history_check_ = false;
+          if (!last) idisp = drift_intruder();
+        } else {
+          const int lo = (c - 1) * rows_per_chunk;
+          d2 = std::max(d2, finish_rows(lo, std::min(ng, lo + rows_per_chunk),
+                                        last ? Kick::sync : Kick::drift));
+        }
+      }
+      slot[t].d2 = d2;
+      if (last) {
+        if (t == 0) completed = k;
+        break;
+      }
+      if (t == 0) completed = k;
+    }
   }
-  const double md = std::sqrt(maxd2) + growth_since_build_;
-  if (2.0 * md > skin_ || idisp + md > skin_) build_lists();
-  compute_forces(dt);
-  finish_kick(false);
-  time_ += dt;
-  ++steps_;
+  max_overlap_ = max_ov;
+  drifted_ = rebuild;
+  return completed;
+}
+
+void DemSystem::advance(long long n) {
+  prepare();
+  long long done = 0;
+  while (done < n) {
+    done += run_segment(n - done);
+    if (drifted_) build_lists();
+  }
 }
 
 }  // namespace grainlift::dem

@@ -12,6 +12,7 @@ namespace grainlift::dem {
 void NeighborList::clear() {
   first.assign(1, 0);
   partner.clear();
+  owner.clear();
   sx.clear();
   sy.clear();
   fx.clear();
@@ -135,6 +136,10 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
       std::copy(thread_partner_[t].begin(), thread_partner_[t].end(), partner.begin() + pos);
       pos += thread_partner_[t].size();
     }
+  }
+  owner.resize(np);
+  for (int i = 0; i < n_mobile; ++i) {
+    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) owner[k] = i;
   }
   sx.assign(np, 0.0);
   sy.assign(np, 0.0);

@@ -164,9 +164,23 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   out.steady_start_index = static_cast<std::size_t>(-1);
   FieldAccumulator fields(c.fields);
 
-  for (long long k = 1; k <= n_steps; ++k) {
-    s.step();
-    if (lid) lid->advance(s);
+  // advance() runs the steps between two events (sample, field snapshot, progress report)
+  // in one go; the state is the same as after single steps. The lid, a body of its own,
+  // moves after every step, so with a lid the steps are taken one at a time.
+  auto next_multiple = [](long long k, long long every) { return (k / every + 1) * every; };
+  for (long long k = 0; k < n_steps;) {
+    long long next = std::min(n_steps, next_multiple(k, c.sample_every));
+    if (c.fields.enabled) next = std::min(next, next_multiple(k, c.field_every));
+    if (progress) next = std::min(next, next_multiple(k, progress_every));
+    if (lid) {
+      for (; k < next; ++k) {
+        s.advance(1);
+        lid->advance(s);
+      }
+    } else {
+      s.advance(next - k);
+      k = next;
+    }
     const double t = s.time();
     if (k % c.sample_every == 0) {
       if (lid) out.lid.push_back({t, lid->state().y, lid->state().pressure});

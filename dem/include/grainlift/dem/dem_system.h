@@ -34,7 +34,9 @@ struct SystemOptions {
 /// Structure of arrays of all disks: grains [0, n_grains), frozen disks after them.
 struct ParticleArrays {
   std::vector<double> x, y, vx, vy, w, ax, ay, alpha, r, inv_m, inv_i, mass;
-  std::vector<double> x_build, y_build;  ///< positions at the last neighbour-list build
+  /// Positions at the last neighbour-list build, rounded to float (the displacement check
+  /// adds a bound on the rounding, DemSystem::build_round_; half the memory traffic).
+  std::vector<float> x_build, y_build;
 };
 
 /// The intruder: a disk with prescribed velocity and angular velocity.
@@ -68,6 +70,8 @@ class DemSystem {
  public:
   /// Fewer grains per thread than this and the step runs on fewer threads (same results).
   static constexpr int kMinGrainsPerThread = 500;
+  /// At most this many threads.
+  static constexpr int kMaxTeam = 64;
 
   explicit DemSystem(const SystemOptions& options);
 
@@ -81,7 +85,13 @@ class DemSystem {
   void remove_intruder() { intruder_.present = false; }
 
   /// @brief Advance by one time step dt (synchronised velocity Verlet).
-  void step();
+  void step() { advance(1); }
+
+  /// @brief Advance by n time steps. The same results as n calls of step(), bit for bit, but
+  /// faster: one OpenMP parallel region per n steps (per list rebuild), two barriers per
+  /// step, and the second half kick of a step fused with the half kick and drift of the next
+  /// (one pass over the particle arrays). The state is only observable between calls.
+  void advance(long long n);
 
   /// @brief Build the lists and compute the accelerations of the current state (done by the
   /// first step() otherwise; calling it first changes nothing in the results).
@@ -100,7 +110,10 @@ class DemSystem {
   /// @brief Keep the per-pair forces of every step in neighbors().fx/fy/q (default on; the
   /// contact stress of the fields reads them). Off, a one-thread run skips those stores; the
   /// forces on the bodies are the same bits either way.
-  void set_store_pair_forces(bool on) { store_pair_forces_ = on; }
+  void set_store_pair_forces(bool on) {
+    if (on != store_pair_forces_) full_history_check_ = true;
+    store_pair_forces_ = on;
+  }
   /// @brief Set every grain velocity and angular velocity to zero.
   void zero_velocities();
   /// @brief Move the frozen disks with particle indices [begin, end) by dy (m) and give them
@@ -141,8 +154,26 @@ class DemSystem {
 
  private:
   void build_lists();
-  void compute_forces(double spring_dt);
-  void finish_kick(bool first);
+  /// Pair forces of the rows of one chunk (pass 1: distance checks, pass 2: contact law).
+  void chunk_forces(int chunk, double spring_dt, double& max_ov);
+  /// The intruder's own contacts (serial, fixed order).
+  void intruder_forces(double spring_dt, double& max_ov);
+  enum class Kick { first, sync, drift };
+  /// Accelerations of rows [lo, hi) from the forces; with Kick::sync/drift the second half
+  /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
+  /// largest squared displacement since the last build (drift only).
+  double finish_rows(int lo, int hi, Kick mode);
+  template <bool kScatter, Kick kMode>
+  double finish_impl(int lo, int hi);
+  /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
+  double drift_rows(int lo, int hi);
+  /// Move the intruder by one step; returns its displacement since the last build.
+  double drift_intruder();
+  /// Runs up to m steps in one parallel region; stops early (state drifted) when the lists
+  /// need a rebuild. Returns the steps completed.
+  long long run_segment(long long m);
+  int chunks() const { return (n_grains_ + kChunkRows - 1) / kChunkRows; }
+  static constexpr int kChunkRows = 1024;
 
   SystemOptions opt_;
   LawCoefficients law_;
@@ -157,12 +188,29 @@ class DemSystem {
   /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
   /// on one thread (in the same order as the gather of the threaded path: same bits).
   std::vector<double> fx_, fy_, tq_;
-  std::vector<std::vector<std::int64_t>> touch_;  ///< per thread: touching pairs of the step
+  std::vector<std::vector<std::int64_t>> touch_;  ///< per chunk: touching pairs of the step
+  std::vector<std::vector<std::int64_t>> touch_prev_;  ///< per chunk: those of the step before
+  /// The history (and stored force) of a listed pair is non-zero only if the pair touched at
+  /// the step before (touch_prev_), except after a list build or a change of
+  /// store_pair_forces_: then the next force pass checks every pair.
+  bool full_history_check_ = true;
+  /// per listed pair: r_i r_j / (r_i + r_j) and 1 / (1/m_i + 1/m_j), set at the build
+  std::vector<double> pair_reff_, pair_meff_;
+  bool radii_scaled_ = false;  ///< a radius changed since the build: pair constants stale
+  bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
   Intruder intruder_;
   IntruderContacts ic_;
   IntruderContacts ic_old_;
   std::vector<int> ic_slot_;  ///< per grain: index in ic_ or -1
+  /// per grain: kCandidate if ic_slot_ >= 0; kAccelSet unless ax, ay, alpha hold exactly the
+  /// accelerations of a grain without any force (then the final kick need not store them)
+  std::vector<std::uint8_t> grain_flags_;
+  static constexpr std::uint8_t kCandidate = 1, kAccelSet = 2;
+  /// per grain: 1 if a listed pair of the grain touches at this step (set by the pair loop,
+  /// cleared by the final kick; the kick of a grain without contact reads no pair force)
+  std::vector<std::uint8_t> touched_;
+  double build_round_ = 0;  ///< m, bound on the float rounding of x_build, y_build
   double ifx_ = 0, ify_ = 0, itq_ = 0;
   int intruder_touching_ = 0;
   double max_overlap_ = 0;

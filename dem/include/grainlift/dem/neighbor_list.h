@@ -29,6 +29,7 @@ class NeighborList {
 
   std::vector<std::int64_t> first;  ///< row i spans [first[i], first[i+1])
   std::vector<int> partner;         ///< j of each pair
+  std::vector<int> owner;           ///< i of each pair (flat loops over pairs)
   std::vector<double> sx, sy;       ///< m, tangential spring of each pair (history)
   std::vector<double> fx, fy;       ///< N, force on i of each pair (0 when not touching)
   std::vector<double> q;            ///< N, n x F_t (torque on i is -r_i q, on j -r_j q)
