@@ -5,7 +5,7 @@
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
 #          and the base states alone (no gravity, same P0)              ~15 min on one core
-#   mesh   refinement 0..3 at h = 8 D, and 1..3 adaptive cycles from 1   ~20 min
+#   mesh   refinement 0..2 (MESH_MAX=3: and 3) at h = 8 D, 1..3 adaptive cycles from 1
 #   delta  regularisation delta at refinement 2, h = 8 D                 ~5 min
 #   box    FE box size at h = 16 D                                       ~5 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
@@ -17,7 +17,7 @@ O=${2:-runs/continuum_study}
 G=${GRAINLIFT:-build/bin/grainlift}
 PY=${PYTHON:-/usr/bin/python3}
 CASE=cases/guillard2014/gradient.toml
-S=(--solver fem --quiet --threads 1 --set output.fields=false --set output.vtu=false
+S=(--solver fem --threads 1 --set output.fields=false --set output.vtu=false
    --set "domain.y_range=[-0.6,0.06]")
 BOX="continuum.box_half_size=[0.06,0.04]"
 D=0.015
@@ -25,10 +25,13 @@ RHO_G=$(awk 'BEGIN { print 0.82 * 2.5 * 9.81 }')   # rho g of the case (2D units
 ypos() { awk -v h="$1" -v D=$D 'BEGIN { printf "%.6g", 0.06 - h * D }'; }
 p0() { awk -v h="$1" -v D=$D -v rg="$RHO_G" 'BEGIN { printf "%.8g", rg * h * D }'; }
 
-run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rerun)
+run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rerun); log kept
   local dir="$O/$1"; shift
   [[ -f "$dir/fem.h5" ]] && return 0
-  "$G" run "$CASE" "${S[@]}" "$@" --out "$dir" || echo "FAILED: $dir" | tee -a "$O/failures.txt"
+  mkdir -p "$dir"
+  "$G" run "$CASE" "${S[@]}" "$@" --out "$dir" > "$dir.log" 2>&1 ||
+    echo "FAILED: $dir (see $dir.log)" | tee -a "$O/failures.txt"
+  grep -E "^ fem:" "$dir.log" || true
 }
 
 part_split() {
@@ -42,7 +45,7 @@ part_split() {
   done
 }
 part_mesh() {
-  for r in 0 1 2 3; do
+  for r in 0 1 2 ${MESH_MAX:+$(seq -s ' ' 3 "$MESH_MAX")}; do
     run "mesh/full_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
       --set continuum.refinement=$r
     run "mesh/linearised_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
