@@ -126,9 +126,11 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   q.domain_ymax = c.intruder.position[1] + cfg.half_height;
   q.pressure_scale = cfg.ambient_pressure;
   r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
-                             "final relative residual {:.3g}",
+                             "krylov iterations {}, linear solver {}, final relative residual {:.3g}",
                              out.cells, out.dofs, out.nonlinear_iterations,
-                             out.linear_iterations, out.final_residual);
+                             out.linear_iterations, out.krylov_iterations,
+                             cfg.linear_solver == LinearSolver::amg ? "amg" : "direct",
+                             out.final_residual);
   return r;
 }
 

@@ -147,8 +147,6 @@ void validate_config(const ContinuumConfig& c) {
   require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1, "nonlinear_tolerance must be in (0, 1)");
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
   require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
-  require(c.linear_solver == LinearSolver::direct,
-          "linear_solver = amg is not implemented; use direct (UMFPACK)");
   for (const double t : c.surface_theta) require(finite(t), "surface_theta values must be finite");
   if (c.fields.enabled)
     require(c.fields.spacing > 0 && c.fields.nx > 0 && c.fields.ny > 0,
@@ -177,6 +175,8 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     ProblemSetup setup;
     setup.viscosity = &rheology;
     setup.log = log;
+    setup.linear_solver = c.linear_solver;
+    setup.schur_approximation = c.schur_approximation;
     if (g.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g); };
     const double vref = std::max(speed, std::abs(omega) * R);
     switch (c.inertia) {
@@ -264,6 +264,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.newton_steps = rep.newton_steps;
     out.nonlinear_iterations = rep.picard_steps + rep.newton_steps;
     out.linear_iterations = rep.linear_solves;
+    out.krylov_iterations = rep.krylov_iterations;
     out.initial_residual = rep.initial_residual;
     out.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
     out.cells = static_cast<int>(tria.n_active_cells());
