@@ -15,6 +15,7 @@
 
 #include "flow_problem.h"
 #include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/mpi_session.h"
 #include "grainlift/continuum/mu_i_rheology.h"
 
 namespace grainlift::continuum {
@@ -156,6 +157,11 @@ void validate_config(const ContinuumConfig& c) {
 ContinuumOutput solve_flow(const ContinuumConfig& c,
                            const std::function<void(const std::string&)>& log) {
   validate_config(c);
+  // Each rank would run the whole serial problem and write the same files.
+  require(MpiSession::size() == 1,
+          "runs on one MPI process only (started as one of " + std::to_string(MpiSession::size()) +
+              " ranks): the distributed solve (parallel::distributed::Triangulation) is not "
+              "implemented yet; run without mpirun");
   const auto say = [&log](const std::string& s) { if (log) log(s); };
   ContinuumOutput out;
   try {
