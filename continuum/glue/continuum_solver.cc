@@ -128,9 +128,12 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   q.domain_ymax = c.intruder.position[1] + cfg.half_height;
   q.pressure_scale = cfg.ambient_pressure;
   r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
-                             "final relative residual {:.3g}, continuation splits {}{}",
+                             "krylov iterations {}, linear solver {}, final relative residual {:.3g}, "
+                             "continuation splits {}{}",
                              out.cells, out.dofs, out.nonlinear_iterations,
-                             out.linear_iterations, out.final_residual, out.continuation_splits,
+                             out.linear_iterations, out.krylov_iterations,
+                             cfg.linear_solver == LinearSolver::amg ? "amg" : "direct",
+                             out.final_residual, out.continuation_splits,
                              cfg.linearised_gravity
                                  ? fmt::format(", linearised gravity correction {:.3g} s",
                                                out.correction_seconds)

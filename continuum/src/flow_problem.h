@@ -1,6 +1,7 @@
 // Internal: the deal.II finite-element engine shared by solve_flow() and the verification
 // drivers. Steady incompressible generalised-Newtonian flow, Taylor-Hood Q2-Q1, Picard then
-// Newton with a backtracking line search, direct (UMFPACK) linear solves.
+// Newton with a backtracking line search; linear solves direct (UMFPACK) or FGMRES with a block
+// preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
 // This header includes deal.II: never include it from a public header.
 #pragma once
 
@@ -27,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "grainlift/continuum/continuum_config.h"
 #include "grainlift/continuum/mu_i_rheology.h"
 
 namespace grainlift::continuum::internal {
@@ -72,10 +74,13 @@ struct ProblemSetup {
   VectorField initial_velocity;           ///< empty = 0
   ScalarField initial_pressure;           ///< empty = 0
   std::function<void(const std::string&)> log;
+  LinearSolver linear_solver = LinearSolver::direct;
+  SchurApproximation schur_approximation = SchurApproximation::diagonal_a;
 };
 
 struct NonlinearReport {
   int picard_steps = 0, newton_steps = 0, linear_solves = 0;
+  long krylov_iterations = 0;  ///< FGMRES iterations summed over the linear solves (amg only)
   double initial_residual = 0, final_residual = 0;
   bool converged = false;
   std::string message;
@@ -108,8 +113,11 @@ class FlowProblem {
   /// (@p newton) or the Picard matrix (eta frozen) into system_matrix.
   double assemble_system(const dealii::Vector<double>& state, bool matrix, bool newton,
                          dealii::Vector<double>& residual);
-  /// Solve system_matrix * update = -residual with UMFPACK; update satisfies zero constraints.
-  void solve(const dealii::Vector<double>& residual, dealii::Vector<double>& update);
+  /// Solve system_matrix * update = -residual; update satisfies zero constraints. Direct
+  /// (UMFPACK), or FGMRES to |K update + residual| <= @p relative_tolerance |residual| (amg).
+  /// Returns the number of Krylov iterations (0 for the direct solver).
+  int solve(const dealii::Vector<double>& residual, dealii::Vector<double>& update,
+            double relative_tolerance = 1e-12);
   void output_results(const std::string& directory, const std::string& basename) const;
 
   // ---- post-processing
@@ -157,8 +165,14 @@ class FlowProblem {
   void make_constraints(dealii::AffineConstraints<double>& c, bool homogeneous) const;
   /// Residual (and matrix when @p matrix != nullptr) at @p state. With @p reaction_mode, only
   /// the volume terms, added without constraints (for the reaction forces).
+  /// With @p schur_mass, also the pressure mass matrix weighted by 1/eta (the Schur
+  /// complement approximation of the block preconditioner).
   double assemble_impl(const dealii::Vector<double>& state, dealii::SparseMatrix<double>* matrix,
-                       bool newton, dealii::Vector<double>& residual, bool reaction_mode) const;
+                       bool newton, dealii::Vector<double>& residual, bool reaction_mode,
+                       dealii::SparseMatrix<double>* schur_mass = nullptr) const;
+  /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
+  int solve_iterative(const dealii::Vector<double>& rhs, dealii::Vector<double>& x,
+                      double relative_tolerance);
   PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u) const;
   void log(const std::string& s) const { if (setup_.log) setup_.log(s); }
 
@@ -171,6 +185,13 @@ class FlowProblem {
   dealii::SparsityPattern sparsity_;
   dealii::SparseMatrix<double> system_matrix_;
   dealii::Vector<double> solution_;
+  // ---- block preconditioner (LinearSolver::amg): dofs are numbered velocity first (n_u_ of
+  // them), then pressure; the (u,u) and (p,p) blocks are copied out of the full matrices
+  dealii::types::global_dof_index n_u_ = 0;
+  dealii::SparseMatrix<double> schur_mass_;          ///< full size, only the (p,p) block is used
+  dealii::SparsityPattern sparsity_uu_, sparsity_pp_, sparsity_up_, sparsity_pu_, sparsity_s_;
+  dealii::SparseMatrix<double> block_uu_, block_pp_, block_up_, block_pu_, schur_bdb_;
+  std::vector<std::vector<bool>> velocity_constant_modes_;
   NonlinearReport report_;
   mutable std::unique_ptr<dealii::GridTools::Cache<dim>> cache_;
   mutable dealii::Vector<double> traction_;  ///< nodal consistent traction (empty until needed)

@@ -21,6 +21,7 @@
 
 #include "flow_problem.h"
 #include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/mpi_session.h"
 #include "grainlift/continuum/mu_i_rheology.h"
 
 namespace grainlift::continuum {
@@ -153,8 +154,6 @@ void validate_config(const ContinuumConfig& c) {
   require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1, "nonlinear_tolerance must be in (0, 1)");
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
   require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
-  require(c.linear_solver == LinearSolver::direct,
-          "linear_solver = amg is not implemented; use direct (UMFPACK)");
   for (const double t : c.surface_theta) require(finite(t), "surface_theta values must be finite");
   if (c.fields.enabled)
     require(c.fields.spacing > 0 && c.fields.nx > 0 && c.fields.ny > 0,
@@ -164,6 +163,11 @@ void validate_config(const ContinuumConfig& c) {
 ContinuumOutput solve_flow(const ContinuumConfig& c,
                            const std::function<void(const std::string&)>& log) {
   validate_config(c);
+  // Each rank would run the whole serial problem and write the same files.
+  require(MpiSession::size() == 1,
+          "runs on one MPI process only (started as one of " + std::to_string(MpiSession::size()) +
+              " ranks): the distributed solve (parallel::distributed::Triangulation) is not "
+              "implemented yet; run without mpirun");
   const auto say = [&log](const std::string& s) { if (log) log(s); };
   ContinuumOutput out;
   try {
@@ -186,6 +190,8 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       ProblemSetup setup;
       setup.viscosity = &rheology;
       setup.log = log;
+      setup.linear_solver = c.linear_solver;
+      setup.schur_approximation = c.schur_approximation;
       if (g_used.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g_used); };
       // far field: Dirichlet u = -V where the flow enters or slides along the box, the
       // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
@@ -360,6 +366,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.newton_steps = rep.newton_steps;
     out.nonlinear_iterations = rep.picard_steps + rep.newton_steps;
     out.linear_iterations = rep.linear_solves;
+    out.krylov_iterations = rep.krylov_iterations;
     out.initial_residual = rep.initial_residual;
     out.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
     out.cells = static_cast<int>(tria.n_active_cells());

@@ -20,7 +20,7 @@ using internal::Vec2;
 using Grad = Tensor<2, dim>;
 
 CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double omega,
-                                        int refinement) {
+                                        int refinement, LinearSolver solver) {
   Triangulation<dim> tria;
   GridGenerator::hyper_shell(tria, Point2(), R1, R2, 8, true);  // ids: 0 inner, 1 outer
   tria.refine_global(refinement);
@@ -30,6 +30,7 @@ CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double
   setup.bc.dirichlet[0] = [omega](const Point2& x) { return Vec2({-omega * x[1], omega * x[0]}); };
   setup.bc.dirichlet[1] = [](const Point2&) { return Vec2(); };
   setup.bc.pin_pressure = true;
+  setup.linear_solver = solver;
   FlowProblem problem(tria, setup);
   problem.run();
 
@@ -75,6 +76,7 @@ CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double
   }
   r.cells = static_cast<int>(tria.n_active_cells());
   r.dofs = static_cast<int>(problem.dof_handler().n_dofs());
+  r.krylov_iterations = problem.report().krylov_iterations;
   return r;
 }
 
@@ -115,7 +117,9 @@ Grad exact_stress(const ViscosityModel& visc, const Point2& x,
 }
 
 ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
-                                    const std::function<double(const Point2&)>& p_exact) {
+                                    const std::function<double(const Point2&)>& p_exact,
+                                    LinearSolver solver = LinearSolver::direct,
+                                    SchurApproximation schur = SchurApproximation::diagonal_a) {
   Triangulation<dim> tria;
   GridGenerator::hyper_cube(tria, 0, 1, true);  // ids 0: x=0, 1: x=1, 2: y=0, 3: y=1
   tria.refine_global(refinement);
@@ -144,6 +148,8 @@ ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
   setup.nonlinear.relative_tolerance = 1e-12;
   setup.nonlinear.max_iterations = 40;
   setup.nonlinear.picard_iterations = 3;
+  setup.linear_solver = solver;
+  setup.schur_approximation = schur;
   FlowProblem problem(tria, setup);
   problem.run();
   const auto e = problem.errors(mms_u, mms_grad, p_exact, false);
@@ -153,6 +159,7 @@ ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
   r.velocity_h1 = e[1];
   r.pressure_l2 = e[2];
   r.dofs = static_cast<int>(problem.dof_handler().n_dofs());
+  r.krylov_iterations = problem.report().krylov_iterations;
   r.nonlinear_iterations = problem.report().picard_steps + problem.report().newton_steps;
   r.converged = problem.report().converged;
   return r;
@@ -160,10 +167,12 @@ ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
 
 }  // namespace
 
-ManufacturedResult manufactured_stokes(int refinement) {
+ManufacturedResult manufactured_stokes(int refinement, LinearSolver solver,
+                                       SchurApproximation schur) {
   NewtonianViscosity visc(1.0);
-  return run_manufactured(refinement, visc,
-                          [](const Point2& x) { return std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); });
+  return run_manufactured(
+      refinement, visc, [](const Point2& x) { return std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); },
+      solver, schur);
 }
 
 ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params) {

@@ -152,9 +152,9 @@ std::vector<KeySpec> make_keys() {
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));
   k.push_back(integer("continuum.picard_iterations", "5", 0, 1000, "Picard warm-up steps"));
-  k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct"},
-                     "direct (UMFPACK); FGMRES with a block AMG preconditioner is not "
-                     "implemented yet"));
+  k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct", "amg"},
+                     "direct (UMFPACK) or amg (FGMRES, block preconditioner with Trilinos AMG "
+                     "on the velocity block and a 1/eta-weighted pressure mass matrix)"));
   // [output]
   k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
   k.push_back(real("output.kernel_width_deg", false, "8.0", 0, 90, true, false, "deg",

@@ -15,7 +15,14 @@ enum class Regularisation {
 };
 enum class WallCondition { no_slip, coulomb };
 enum class InertiaMode { off, on, automatic };
+/// direct: UMFPACK on the whole saddle-point matrix. amg: FGMRES with a block upper-triangular
+/// preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
 enum class LinearSolver { direct, amg };
+/// Schur complement approximation S ~ B A^{-1} B^T of the amg preconditioner.
+enum class SchurApproximation {
+  diagonal_a,      ///< B diag(A)^{-1} B^T, one AMG V-cycle (default: robust to the eta_min/eta_max contrast)
+  viscosity_mass   ///< pressure mass matrix weighted by 1/eta, lumped (fails when eta spans many decades)
+};
 
 struct RheologyParams {
   double mu_s = 0.38, mu_2 = 0.64, I0 = 0.279;  ///< Jop, Forterre & Pouliquen 2006 (glass beads)
@@ -77,6 +84,8 @@ struct ContinuumConfig {
   int max_nonlinear_iterations = 50;
   int picard_iterations = 5;
   LinearSolver linear_solver = LinearSolver::direct;
+  /// added by the continuum engine (no case key): the Schur approximation of LinearSolver::amg
+  SchurApproximation schur_approximation = SchurApproximation::diagonal_a;
   // ---- output
   std::vector<double> surface_theta;    ///< rad, angles at which sigma_n, sigma_t are sampled
   FieldGridSpec fields;
@@ -88,13 +97,15 @@ struct ContinuumOutput {
   std::vector<double> sigma_n, sigma_t;   ///< Pa at surface_theta; sigma_n > 0 compressive, sigma_t > 0 ccw
   // fields on the grid, row-major [j * nx + i]; NaN inside the intruder or outside the mesh
   std::vector<double> vx, vy, pressure, sxx, sxy, syy;
-  int nonlinear_iterations = 0, linear_iterations = 0;
+  int nonlinear_iterations = 0;
+  int linear_iterations = 0;              ///< linear solves (one per nonlinear step and retry)
   int cells = 0, dofs = 0;
   double final_residual = 0;
   bool converged = false;
   // ---- added by the continuum engine
   int picard_steps = 0, newton_steps = 0;  ///< split of nonlinear_iterations
   double initial_residual = 0;            ///< |R_0| (final_residual is |R_k| / |R_0|)
+  long krylov_iterations = 0;             ///< FGMRES iterations over all linear solves (amg; 0 for direct)
   bool inertia_used = false;              ///< whether rho (u.grad)u was included
   double correction_seconds = 0;          ///< linearised gravity: time of the correction (setup + one solve)
   int continuation_splits = 0;            ///< intermediate stages inserted after a failed stage

@@ -18,12 +18,14 @@ struct CouetteResult {
   /// the exact wall shear stress: from the consistent traction and from sigma(grad u_h).n
   double shear_error_consistent = 0, shear_error_gradient = 0;
   int cells = 0, dofs = 0;
+  long krylov_iterations = 0;  ///< FGMRES iterations (LinearSolver::amg)
 };
 
 /// @brief Inner cylinder (radius @p R1, m) spinning at @p omega (rad/s) inside a fixed outer one
 /// (radius @p R2) filled with a fluid of viscosity @p eta (Pa s); @p refinement global refinements.
 CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double omega,
-                                        int refinement);
+                                        int refinement,
+                                        LinearSolver solver = LinearSolver::direct);
 
 /// Errors of one manufactured-solution run on the unit square.
 struct ManufacturedResult {
@@ -32,13 +34,15 @@ struct ManufacturedResult {
   double velocity_h1 = 0;     ///< H1 seminorm of u_h - u
   double pressure_l2 = 0;     ///< L2 norm of p_h - p
   int dofs = 0, nonlinear_iterations = 0;
+  long krylov_iterations = 0;  ///< FGMRES iterations (LinearSolver::amg)
   bool converged = false;
 };
 
 /// @brief Newtonian Stokes (eta = 1) on [0,1]^2 with u = (pi sin^2(pi x) sin(2 pi y),
 /// -pi sin(2 pi x) sin^2(pi y)), p = cos(pi x) cos(pi y); Dirichlet on three sides, the exact
 /// traction on x = 1 (which fixes the pressure level); 2^refinement cells per side.
-ManufacturedResult manufactured_stokes(int refinement);
+ManufacturedResult manufactured_stokes(int refinement, LinearSolver solver = LinearSolver::direct,
+                                       SchurApproximation schur = SchurApproximation::diagonal_a);
 
 /// @brief Same velocity with p = 2 + cos(pi x) cos(pi y) and the regularised mu(I) viscosity
 /// of @p params; the body force is -div sigma of the exact fields (central differences).
