@@ -44,7 +44,7 @@ def pooled(specs):
             continue
         out = []
         for i, r in enumerate(tables[0]):
-            same = [t[i] for t in tables if i < len(t) and t[i]["value"] == r["value"]]
+            same = [s for t in tables for s in t if s["value"] == r["value"]]
             p = dict(r)
             for key in ("drag", "lift", "torque", "contacts", "wall_seconds"):
                 p[key] = str(np.mean([num(s, key) for s in same]))
