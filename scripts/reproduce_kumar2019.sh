@@ -61,9 +61,11 @@ fields() {
 
 phi0585() {
   # L/D against Omega at Phi 0.585 (Kumar Fig. 3b); the bed is compressed to 0.78 and thinned
-  # by random removal (the engine's preparation for 0.5 <= Phi <= 0.75)
-  run cases/kumar2019/reduced_phi080.toml --set grains.area_fraction=0.585 \
-      --vary intruder.omega=0,10,20,40,80,200,400 --out "$OUT/omega_phi0585"
+  # by random removal (the engine's preparation for 0.5 <= Phi <= 0.75); four beds pooled
+  for s in $SEEDS; do
+    run cases/kumar2019/reduced_phi080.toml --set grains.area_fraction=0.585 --set dem.seed=$s \
+        --vary intruder.omega=0,10,20,40,80,200,400 --out "$OUT/omega_phi0585/seed$s"
+  done
 }
 
 seeds080() {
@@ -85,7 +87,9 @@ plots() {
   for s in 2 3; do
     [ -f "$OUT/omega_phi080_seed$s/sweep.csv" ] && phi080+=("$OUT/omega_phi080_seed$s/sweep.csv:Phi 0.8")
   done
-  [ -f "$OUT/omega_phi0585/sweep.csv" ] && phi0585=("$OUT/omega_phi0585/sweep.csv:Phi 0.585")
+  for s in $SEEDS; do
+    [ -f "$OUT/omega_phi0585/seed$s/sweep.csv" ] && phi0585+=("$OUT/omega_phi0585/seed$s/sweep.csv:Phi 0.585")
+  done
   $PY scripts/plot_sweep.py ld-omega "$OUT/ld_omega.png" "${phi080[@]}" "${phi035[@]}" "${phi0585[@]}"
   $PY scripts/plot_sweep.py drag-speed "$OUT/drag_speed.png" "$OUT/speed_phi080/sweep.csv:Phi 0.8, Omega 0"
   $PY scripts/plot_sweep.py ld-mu "$OUT/ld_mu.png" "${mu[@]}"
