@@ -2,7 +2,8 @@
 # Reproduces docs/results-kumar2019.md: the reduced Kumar 2019 sweeps and their plots.
 #   scripts/reproduce_kumar2019.sh [OUT_DIR] [PART]
 # PART = dense (the Phi 0.8 sweeps), dilute (Phi 0.35 and 0.135), fields (Fig. 7 flow fields),
-# phi0585 (Fig. 3b), seeds080 (two more Phi 0.8 beds), plots, or all (default);
+# fields_slow (the same at V0 = 0.25 m/s), phi0585 (Fig. 3b), seeds080 (two more Phi 0.8
+# beds), plots, or all (default, which leaves out fields_slow);
 # dense and dilute can run at the same time on two cores. About 15 minutes each on one core;
 # fields about 30 minutes, phi0585 about 10, seeds080 about 25 (times in docs/results-kumar2019.md).
 # Plots and tables go to OUT_DIR (default runs/kumar2019); docs/img/ holds the committed copies.
@@ -59,6 +60,16 @@ fields() {
   done
 }
 
+fields_slow() {
+  # The same fields at the paper's V0 = 0.25 m/s (omega = 5 Omega), Phi 0.8, one bed: checks
+  # that the normalised fields do not depend on V0. 1000 snapshots, one every 1200 steps.
+  run cases/kumar2019/reduced_phi080.toml --set "intruder.velocity=[0.25,0.0]" \
+      --set dem.travel=45 --set dem.steady_travel=15 --set output.fields=true \
+      --set dem.field_every=1200 --set output.field_spacing=0.25 \
+      --set "output.field_half_size=[4.0,3.0]" --set output.vtu=false \
+      --vary intruder.omega=0,5,50 --out "$OUT/fields_phi080_v025"
+}
+
 phi0585() {
   # L/D against Omega at Phi 0.585 (Kumar Fig. 3b); the bed is compressed to 0.78 and thinned
   # by random removal (the engine's preparation for 0.5 <= Phi <= 0.75); four beds pooled
@@ -106,15 +117,21 @@ plots() {
     $PY scripts/plot_fields_fig7.py "$OUT/fields_fig7.png" "${cols[@]}"
     $PY scripts/plot_fields_fig7.py --mirror "$OUT/fields_fig7_mirrored.png" "${cols[@]}" > /dev/null
   fi
+  local fs="$OUT/fields_phi080_v025"
+  if [ -d "$fs/intruder.omega=50" ]; then
+    $PY scripts/plot_fields_fig7.py "$OUT/fields_fig7_v025.png" "$fs/intruder.omega=0" \
+        "$fs/intruder.omega=5" "$fs/intruder.omega=50"
+  fi
 }
 
 case "$PART" in
   dense) dense ;;
   dilute) dilute ;;
   fields) fields ;;
+  fields_slow) fields_slow ;;
   phi0585) phi0585 ;;
   seeds080) seeds080 ;;
   plots) plots ;;
   all) dense; dilute; fields; phi0585; seeds080; plots ;;
-  *) echo "PART must be dense, dilute, fields, phi0585, seeds080, plots or all" >&2; exit 2 ;;
+  *) echo "PART must be dense, dilute, fields, fields_slow, phi0585, seeds080, plots or all" >&2; exit 2 ;;
 esac
