@@ -38,6 +38,7 @@ Descriptors printed per run (lengths in D, y relative to the intruder centre):
              the side it is on, and the ratio of the maxima on the two sides.
 """
 import sys
+import warnings
 
 import h5py
 import matplotlib
@@ -210,6 +211,7 @@ def snapshots(path):
 
 
 def main(argv):
+    warnings.filterwarnings("ignore", category=RuntimeWarning)  # empty bins of the T_g profile
     mirror = "--mirror" in argv
     argv = [a for a in argv if a != "--mirror"]
     if len(argv) < 3:
