@@ -173,6 +173,9 @@ def descriptors(r):
     out["tg_shell_up_over_down"] = float(tg[shell & (Y > 0)].mean() / tg[shell & (Y < 0)].mean())
     front = (X > 0.5) & (X < 2.0) & (abs(Y) < 1.0) & has & outside
     out["vy_front"] = float(vy[front].mean())
+    for name, sgn in (("up", 1), ("dn", -1)):
+        box = (abs(X) < 0.75) & (sgn * Y > 0.5) & (sgn * Y < 1.5) & has
+        out[f"vy_side_{name}"] = float(vy[box].mean())
     down = (X < -1.0) & (X > -3.0) & (abs(Y) < 1.5) & has
     out["vy_down"] = float(vy[down].mean())
     return out
@@ -288,7 +291,8 @@ def main(argv):
               f"y {d['def_yc']:+.3f} D ({side(d['def_yc'], r['omega'])})")
         print(f"  mean v_y*/V0: in front (0.5 < x < 2 D, |y| < 1 D) {d['vy_front']:+.3f}; behind "
               f"(-2 < x < -0.5 D, |y| < 1 D) {d['vy_behind']:+.3f}; downstream (-3 < x < -1 D, "
-              f"|y| < 1.5 D) {d['vy_down']:+.3f}")
+              f"|y| < 1.5 D) {d['vy_down']:+.3f}; beside (|x| < 0.75 D, 0.5 < |y| < 1.5 D): "
+              f"y > 0 {d['vy_side_up']:+.3f}, y < 0 {d['vy_side_dn']:+.3f}")
         for xs in (-0.6, -0.8, -1.0, -2.0):
             print(f"  x = {xs:g} D: deficit centroid y {d[f'yc_def@{xs:g}']:+.3f} D, "
                   f"Phi < Phi_b/2 over {d[f'width@{xs:g}']:.2f} D (y {d[f'ylow@{xs:g}']:+.2f} to "
