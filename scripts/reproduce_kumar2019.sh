@@ -49,9 +49,9 @@ fields() {
   # 2088 N/m, no wake; see docs/results-kumar2019.md), hence Phi 0.8 and the case's V0.
   # 45 d of travel, fields averaged over the last 30 d: one snapshot every 300 steps
   # (0.6 ms, 0.03 d) gives 1000 snapshots, as theirs.
-  # Two beds (seeds 1 and 2); plot_fields_fig7.py pools them (DIR1+DIR2).
+  # Four beds (seeds 1-4); plot_fields_fig7.py pools them (DIR1+DIR2+...).
   local s dir
-  for s in 1 2; do
+  for s in $SEEDS; do
     dir="$OUT/fields_phi080"; [ $s = 1 ] || dir="$OUT/fields_phi080_seed$s"
     run cases/kumar2019/reduced_phi080.toml --set dem.seed=$s --set dem.travel=45 \
         --set dem.steady_travel=15 --set output.fields=true --set dem.field_every=300 \
@@ -109,9 +109,11 @@ plots() {
       "$r/intruder.omega=20:Omega 1" "$r/intruder.omega=80:Omega 4" "$r/intruder.omega=400:Omega 20"
   if [ -d "$OUT/fields_phi080" ]; then
     local cols=() w
-    for w in 0 20 200; do  # Omega 0, 1, 10; beds pooled where the second exists
-      local c="$OUT/fields_phi080/intruder.omega=$w"
-      [ -d "$OUT/fields_phi080_seed2/intruder.omega=$w" ] && c+="+$OUT/fields_phi080_seed2/intruder.omega=$w"
+    for w in 0 20 200; do  # Omega 0, 1, 10; the beds present pooled
+      local c="$OUT/fields_phi080/intruder.omega=$w" s
+      for s in 2 3 4; do
+        [ -d "$OUT/fields_phi080_seed$s/intruder.omega=$w" ] && c+="+$OUT/fields_phi080_seed$s/intruder.omega=$w"
+      done
       cols+=("$c")
     done
     $PY scripts/plot_fields_fig7.py "$OUT/fields_fig7.png" "${cols[@]}"
