@@ -5,7 +5,7 @@
 # fields_slow (the same at V0 = 0.25 m/s), phi0585 (Fig. 3b), seeds080 (two more Phi 0.8
 # beds), plots, or all (default, which leaves out fields_slow);
 # dense and dilute can run at the same time on two cores. About 15 minutes each on one core;
-# fields about 30 minutes, phi0585 about 10, seeds080 about 25 (times in docs/results-kumar2019.md).
+# fields about 10 minutes, fields_slow 6, phi0585 9, seeds080 18 (times in docs/results-kumar2019.md).
 # Plots and tables go to OUT_DIR (default runs/kumar2019); docs/img/ holds the committed copies.
 set -euo pipefail
 cd "$(dirname "$0")/.."
