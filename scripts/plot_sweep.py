@@ -6,7 +6,8 @@
   plot_sweep.py ld-mu     OUT.png  CSV[:LABEL] ...   L/D against mu (saturated spin), with
                                                      L/D = mu and Kumar eq. (15)
 Error bars are the block-average standard errors (propagated for ratios). Tables given the
-same LABEL (independent seeds) are pooled. Prints the table it plots, so the numbers can go
+same LABEL (independent seeds) are pooled (ld-omega also prints each bed's L/D and the spread
+across beds). Prints the table it plots, so the numbers can go
 into docs/."""
 import csv
 import math
@@ -43,12 +44,13 @@ def pooled(specs):
             continue
         out = []
         for i, r in enumerate(tables[0]):
-            same = [t[i] for t in tables if i < len(t) and t[i]["value"] == r["value"]]
+            same = [s for t in tables for s in t if s["value"] == r["value"]]
             p = dict(r)
             for key in ("drag", "lift", "torque", "contacts", "wall_seconds"):
                 p[key] = str(np.mean([num(s, key) for s in same]))
             for key in ("drag_stderr", "lift_stderr", "torque_stderr"):
                 p[key] = str(math.sqrt(sum(num(s, key) ** 2 for s in same)) / len(same))
+            p["beds_ld"] = [num(s, "lift") / num(s, "drag") for s in same]
             out.append(p)
         yield out, f"{label} ({len(tables)} seeds)"
 
@@ -78,10 +80,18 @@ def main(argv):
             y = np.array([num(r, "lift") / num(r, "drag") for r in rows])
             e = np.array([ratio_err(r) for r in rows])
             ax.errorbar(x, y, yerr=e, marker="o", capsize=3, label=label)
-            print(f"# {label}\n# Omega  L/D  stderr  drag  lift  wall_s")
+            print(f"# {label}\n# Omega  L/D  stderr  drag  lift  wall_s  contacts"
+                  + ("  [beds: L/D of each bed; sd across beds; sd/sqrt(n)]"
+                     if "beds_ld" in rows[0] else ""))
             for r, xi, yi, ei in zip(rows, x, y, e):
-                print(f"{xi:8.3f} {yi:8.4f} {ei:8.4f} {num(r,'drag'):10.4g} {num(r,'lift'):10.4g}"
-                      f" {num(r,'wall_seconds'):8.1f}")
+                line = (f"{xi:8.3f} {yi:8.4f} {ei:8.4f} {num(r,'drag'):10.4g} {num(r,'lift'):10.4g}"
+                        f" {num(r,'wall_seconds'):8.1f} {num(r,'contacts'):7.3f}")
+                if "beds_ld" in r:
+                    b = np.array(r["beds_ld"])
+                    sd = b.std(ddof=1) if len(b) > 1 else float("nan")
+                    line += ("  [" + " ".join(f"{v:+.3f}" for v in b)
+                             + f"; sd {sd:.3f}; sem {sd / math.sqrt(len(b)):.3f}]")
+                print(line)
         elif mode == "drag-speed":
             x = np.array([first_number(r["value"]) for r in rows])
             y = np.array([num(r, "drag") for r in rows])
