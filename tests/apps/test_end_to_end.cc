@@ -3,10 +3,8 @@
 // histogram, fields) and summary.json; `sweep` writes one CSV row per value; a dt above the
 // stated fraction of the collision time is bad input (exit 2).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +13,7 @@
 #include <string>
 
 #include "grainlift/shared/result_file.h"
+#include "run_command.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;
@@ -22,15 +21,9 @@ namespace fs = std::filesystem;
 namespace {
 
 int run(const std::string& args, std::string* output = nullptr) {
-  const std::string cmd = std::string(GRAINLIFT_BINARY) + " " + args + " 2>&1";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return -1;
-  std::array<char, 4096> buf;
-  std::string out;
-  while (std::fgets(buf.data(), int(buf.size()), p)) out += buf.data();
-  const int status = ::pclose(p);
-  if (output) *output = out;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const test_support::CommandOutcome o = test_support::run_grainlift(args);
+  if (output) *output = o.output;
+  return o.code;
 }
 
 // 20 d x 14 d box at Phi 0.6, 10 d of travel: about a second.

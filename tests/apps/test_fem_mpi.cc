@@ -2,30 +2,24 @@
 // every rank must stop with bad input (exit 2) and a message that says so, before any rank
 // solves or writes a file. Skipped when mpirun is not installed.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "run_command.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& cmd_in, std::string* output) {
-  const std::string cmd = cmd_in + " 2>&1";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return -1;
-  std::array<char, 4096> buf;
-  std::string out;
-  while (std::fgets(buf.data(), int(buf.size()), p)) out += buf.data();
-  const int status = ::pclose(p);
-  if (output) *output = out;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+int run(const std::string& command, std::string* output) {
+  const grainlift::test_support::CommandOutcome o = grainlift::test_support::run_command(command);
+  if (output) *output = o.output;
+  return o.code;
 }
 
 const char* fem_case = R"([domain]

@@ -1,10 +1,8 @@
 // The `grainlift` command: documented exit codes (0 ok, 2 bad input) and messages that name
 // the file, line and accepted range; `compare --json` on files that differ by a known amount.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,28 +10,16 @@
 
 #include "grainlift/shared/result_file.h"
 #include "grainlift/shared/surface_stress.h"
+#include "run_command.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int code;
-  std::string output;  // stdout and stderr
-};
+using Outcome = test_support::CommandOutcome;
 
-Outcome run(const std::string& args) {
-  const std::string cmd = std::string(GRAINLIFT_BINARY) + " " + args + " 2>&1";
-  Outcome o{-1, ""};
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return o;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), int(buf.size()), p)) o.output += buf.data();
-  const int status = ::pclose(p);
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return o;
-}
+Outcome run(const std::string& args) { return test_support::run_grainlift(args); }
 
 fs::path scratch() {
   fs::path d = fs::temp_directory_path() / ("grainlift_cli_" + std::to_string(::getpid()));
