@@ -10,6 +10,7 @@
 #include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/simulation.h"
+#include "dem_beds.h"
 
 namespace gd = grainlift::dem;
 
@@ -20,15 +21,7 @@ constexpr double kPi = 3.14159265358979323846;
 /// 30 d x 20 d box of Kumar grains at Phi 0.82, periodic in x, bottom wall and
 /// a lid on top, no gravity.
 gd::DemConfig lid_case(double pressure) {
-  gd::DemConfig c;
-  const double d = c.grain_diameter;
-  c.xmin = -15 * d;
-  c.xmax = 15 * d;
-  c.ymin = -10 * d;
-  c.ymax = 10 * d;
-  c.wall_bottom = c.wall_top = true;
-  c.area_fraction = 0.82;
-  c.intruder_diameter = 5 * d;
+  gd::DemConfig c = grainlift::test_support::walled_bed(30, 20, 0.82);
   c.dt = 4e-6;
   c.seed = 7;
   c.lid_pressure = pressure;

@@ -12,6 +12,7 @@
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/simulation.h"
+#include "dem_beds.h"
 
 namespace gd = grainlift::dem;
 
@@ -21,16 +22,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// A small Kumar-like bed: W x H grain diameters, walls top and bottom, periodic in x.
 gd::DemConfig small_case(double w, double h, double phi) {
-  gd::DemConfig c;
+  gd::DemConfig c = grainlift::test_support::walled_bed(w, h, phi);
   const double d = c.grain_diameter;
-  c.xmin = -0.5 * w * d;
-  c.xmax = 0.5 * w * d;
-  c.ymin = -0.5 * h * d;
-  c.ymax = 0.5 * h * d;
-  c.wall_bottom = c.wall_top = true;
-  c.area_fraction = phi;
-  c.intruder_diameter = 5 * d;
-  c.intruder_velocity = {1.0, 0.0};
   c.intruder_omega = 2.0 * 1.0 / (2.5 * d);  // Omega = omega R / V = 2
   c.travel = 1.0;
   c.steady_travel = 0.25;

@@ -7,6 +7,7 @@
 
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/simulation.h"
+#include "dem_beds.h"
 
 namespace gd = grainlift::dem;
 
@@ -15,16 +16,7 @@ namespace {
 /// The small bed of the simulation tests: 30 d x 20 d, walls top and bottom, Phi 0.8,
 /// intruder 5 d at V = 1 m/s along +x.
 gd::DemConfig ramp_case() {
-  gd::DemConfig c;
-  const double d = c.grain_diameter;
-  c.xmin = -15 * d;
-  c.xmax = 15 * d;
-  c.ymin = -10 * d;
-  c.ymax = 10 * d;
-  c.wall_bottom = c.wall_top = true;
-  c.area_fraction = 0.8;
-  c.intruder_diameter = 5 * d;
-  c.intruder_velocity = {1.0, 0.0};
+  gd::DemConfig c = grainlift::test_support::walled_bed(30, 20, 0.8);
   c.dt = 4e-6;
   c.seed = 3;
   return c;
