@@ -70,6 +70,37 @@ def buoyancy(r):
     return r["rho"] * r["g"] * math.pi * r["D"] ** 2 / 4
 
 
+def drag_coefficient(r):
+    """drag / (P0 D)"""
+    return r["drag"] / (r["P0"] * r["D"])
+
+
+def lift_ratio(r):
+    """lift / buoyancy"""
+    return r["lift"] / buoyancy(r)
+
+
+# columns of the study tables: header, value of a run
+COLUMNS = {
+    "cells": ("cells", lambda r: f"{r['cells']}"),
+    "dofs": ("unknowns", lambda r: f"{r['dofs']}"),
+    "cd": ("drag / (P0 D)", lambda r: f"{drag_coefficient(r):.4f}"),
+    "lb": ("L/B", lambda r: f"{lift_ratio(r):.3f}"),
+    "steps": ("nonlinear steps", lambda r: f"{r['iterations']}"),
+    "time": ("time", lambda r: f"{r['seconds']:.1f} s"),
+}
+
+
+def print_table(title, key_header, rows, columns):
+    """Markdown table: one row per (key, run), the key formatted with :g."""
+    print(f"\n### {title}\n")
+    heads = [key_header] + [COLUMNS[c][0] for c in columns]
+    print("| " + " | ".join(heads) + " |")
+    print("|" + "---|" * len(heads))
+    for key, r in rows:
+        print(f"| {key:g} | " + " | ".join(COLUMNS[c][1](r) for c in columns) + " |")
+
+
 def hydrostatic_weighting_lift(base, g, rho):
     """Lift of the g = 0 normal stress weighted by the local hydrostatic pressure
     (P0 - rho g R sin(theta)) / P0 (Guillard 2014's estimate, about 3.6 buoyancies in their DEM)."""
@@ -171,39 +202,31 @@ def part_mesh(run_dir, img_dir):
         if not rows:
             print(f"(mesh {kind}: no runs)")
             continue
-        print(f"\n### Mesh levels ({kind}), h = 8 D\n")
-        print("| refinement | cells | unknowns | drag / (P0 D) | L/B | nonlinear steps | time |")
-        print("|---|---|---|---|---|---|---|")
-        for lev, r in rows:
-            print(f"| {lev} | {r['cells']} | {r['dofs']} | {r['drag'] / (r['P0'] * r['D']):.4f} | "
-                  f"{r['lift'] / buoyancy(r):.3f} | {r['iterations']} | {r['seconds']:.1f} s |")
+        print_table(f"Mesh levels ({kind}), h = 8 D", "refinement", rows,
+                    ("cells", "dofs", "cd", "lb", "steps", "time"))
     ad = series(run_dir, "mesh", "adaptive_a*", lambda n: int(n.split("_a")[-1]))
     if ad:
-        print("\n### Adaptive cycles from refinement 1, h = 8 D\n")
-        print("| cycles | cells | unknowns | drag / (P0 D) | L/B | nonlinear steps | time |")
-        print("|---|---|---|---|---|---|---|")
-        for lev, r in ad:
-            print(f"| {lev} | {r['cells']} | {r['dofs']} | {r['drag'] / (r['P0'] * r['D']):.4f} | "
-                  f"{r['lift'] / buoyancy(r):.3f} | {r['iterations']} | {r['seconds']:.1f} s |")
+        print_table("Adaptive cycles from refinement 1, h = 8 D", "cycles", ad,
+                    ("cells", "dofs", "cd", "lb", "steps", "time"))
     rows = series(run_dir, "mesh", "full_r*", lambda n: int(n.split("_r")[1]))
     if len(rows) >= 2:
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
         lev = [x for x, _ in rows]
-        ax[0].plot(lev, [r["drag"] / (r["P0"] * r["D"]) for _, r in rows], "o-", label="drag / (P0 D)")
-        ax[0].plot(lev, [r["lift"] / buoyancy(r) for _, r in rows], "s-", label="lift / buoyancy")
+        ax[0].plot(lev, [drag_coefficient(r) for _, r in rows], "o-", label="drag / (P0 D)")
+        ax[0].plot(lev, [lift_ratio(r) for _, r in rows], "s-", label="lift / buoyancy")
         lin = series(run_dir, "mesh", "linearised_r*", lambda n: int(n.split("_r")[1]))
         if lin:
-            ax[0].plot([x for x, _ in lin], [r["lift"] / buoyancy(r) for _, r in lin], "s--",
+            ax[0].plot([x for x, _ in lin], [lift_ratio(r) for _, r in lin], "s--",
                        label="lift / buoyancy, (b)")
         ax[0].set_xlabel("refinement level")
-        ax[0].legend()
         ax[0].set_title("Guillard gradient case, h = 8 D")
         ax[1].semilogy([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-", label="uniform")
         if ad:
             ax[1].semilogy([r["dofs"] for _, r in ad], [r["seconds"] for _, r in ad], "s--", label="adaptive")
-            ax[0].plot([1 + 0.5 * k for k, _ in ad], [r["drag"] / (r["P0"] * r["D"]) for _, r in ad], "x",
+            ax[0].plot([1 + 0.5 * k for k, _ in ad], [drag_coefficient(r) for _, r in ad], "x",
                        color="C0", label="adaptive (x at 1 + cycles/2)")
-            ax[0].plot([1 + 0.5 * k for k, _ in ad], [r["lift"] / buoyancy(r) for _, r in ad], "x", color="C1")
+            ax[0].plot([1 + 0.5 * k for k, _ in ad], [lift_ratio(r) for _, r in ad], "x", color="C1")
+        ax[0].legend()
         ax[1].legend()
         ax[1].set_xscale("log")
         ax[1].set_xlabel("unknowns")
@@ -219,16 +242,12 @@ def part_delta(run_dir, img_dir):
     if not rows:
         print("(delta: no runs)")
         return
-    print("\n### Regularisation delta, refinement 2, h = 8 D\n")
-    print("| delta (1/s) | drag / (P0 D) | L/B | nonlinear steps | time |")
-    print("|---|---|---|---|---|")
-    for d, r in rows:
-        print(f"| {d:g} | {r['drag'] / (r['P0'] * r['D']):.4f} | {r['lift'] / buoyancy(r):.3f} | "
-              f"{r['iterations']} | {r['seconds']:.1f} s |")
+    print_table("Regularisation delta, refinement 2, h = 8 D", "delta (1/s)", rows,
+                ("cd", "lb", "steps", "time"))
     fig, ax = plt.subplots(figsize=(5, 4))
     ds = [d for d, _ in rows]
-    ax.semilogx(ds, [r["drag"] / (r["P0"] * r["D"]) for _, r in rows], "o-", label="drag / (P0 D)")
-    ax.semilogx(ds, [r["lift"] / buoyancy(r) for _, r in rows], "s-", label="lift / buoyancy")
+    ax.semilogx(ds, [drag_coefficient(r) for _, r in rows], "o-", label="drag / (P0 D)")
+    ax.semilogx(ds, [lift_ratio(r) for _, r in rows], "s-", label="lift / buoyancy")
     ax.set_xlabel("delta (1/s)")
     ax.legend()
     ax.set_title("regularisation, refinement 2, h = 8 D")
@@ -242,12 +261,8 @@ def part_box(run_dir, img_dir):
     if not rows:
         print("(box: no runs)")
         return
-    print("\n### FE box size, h = 16 D (half sizes f x [0.06, 0.04] m = f x [4, 2.67] D)\n")
-    print("| f | drag / (P0 D) | L/B | cells | time |")
-    print("|---|---|---|---|---|")
-    for f, r in rows:
-        print(f"| {f:g} | {r['drag'] / (r['P0'] * r['D']):.4f} | {r['lift'] / buoyancy(r):.3f} | {r['cells']} | "
-              f"{r['seconds']:.1f} s |")
+    print_table("FE box size, h = 16 D (half sizes f x [0.06, 0.04] m = f x [4, 2.67] D)", "f", rows,
+                ("cd", "lb", "cells", "time"))
 
 
 def part_spin(run_dir, img_dir):
@@ -264,17 +279,8 @@ def part_spin(run_dir, img_dir):
         print(f"{wall}: " + ", ".join(
             f"Omega {r['omega'] * r['D'] / 2 / r['V']:g}: L/D {r['lift'] / r['drag']:+.3f} "
             f"(drag {r['drag']:.0f} N/m, {r['seconds']:.0f} s)" for _, r in rows))
-    fig, ax = plt.subplots(figsize=(5.5, 4))
-    for wall, rows in walls.items():
-        om = [r["omega"] * r["D"] / 2 / r["V"] for _, r in rows]
-        ax.plot(om, [r["lift"] / r["drag"] for _, r in rows], "o-", label=f"mu(I), {wall} wall")
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set_xlabel("Omega = omega R / V")
-    ax.set_ylabel("L / D")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(img_dir, "continuum_spin.png"), dpi=120)
-    plt.close(fig)
+    # the figure with the DEM beside it is docs/img/continuum_ld_omega.png
+    # (scripts/reproduce_continuum_first.sh)
 
 
 def main():
