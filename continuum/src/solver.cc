@@ -261,47 +261,48 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     FlowProblem problem(tria, setup);
     problem.setup_system();
     problem.interpolate_initial_guess();
+    // runs the stages in todo, splitting those that fail
     const auto run_stages = [&]() {
-    while (!todo.empty()) {
-      const Stage st = todo.front();
-      internal::NonlinearSettings nl = setup.nonlinear;
-      nl.picard_iterations = stage_number == 0 ? c.picard_iterations : 0;
-      std::ostringstream os;
-      if (st.final) {
-        problem.set_viscosity(&rheology);
-        problem.set_inertia_density(rho_inertia);
-        os << "continuum: final stage";
-      } else {
-        RheologyParams prm = c.rheology;
-        prm.regularisation = Regularisation::chauchat_medale;
-        prm.delta = st.delta;
-        stage_rheology.push_back(std::make_unique<MuIRheology>(prm));
-        problem.set_viscosity(stage_rheology.back().get());
-        problem.set_inertia_density(0);
-        nl.relative_tolerance = std::max(1e-3, c.nonlinear_tolerance);
-        // a stage that needs more than 20 steps is better split than pushed
-        nl.max_iterations = std::min(nl.max_iterations, kStageIterations);
-        os << "continuum: continuation stage " << stage_number + 1 << ", delta = " << st.delta
-           << " 1/s";
+      while (!todo.empty()) {
+        const Stage st = todo.front();
+        internal::NonlinearSettings nl = setup.nonlinear;
+        nl.picard_iterations = stage_number == 0 ? c.picard_iterations : 0;
+        std::ostringstream os;
+        if (st.final) {
+          problem.set_viscosity(&rheology);
+          problem.set_inertia_density(rho_inertia);
+          os << "continuum: final stage";
+        } else {
+          RheologyParams prm = c.rheology;
+          prm.regularisation = Regularisation::chauchat_medale;
+          prm.delta = st.delta;
+          stage_rheology.push_back(std::make_unique<MuIRheology>(prm));
+          problem.set_viscosity(stage_rheology.back().get());
+          problem.set_inertia_density(0);
+          nl.relative_tolerance = std::max(1e-3, c.nonlinear_tolerance);
+          // a stage that needs more than 20 steps is better split than pushed
+          nl.max_iterations = std::min(nl.max_iterations, kStageIterations);
+          os << "continuum: continuation stage " << stage_number + 1 << ", delta = " << st.delta
+             << " 1/s";
+        }
+        say(os.str());
+        const Vector<double> saved = problem.solution();
+        problem.solve_nonlinear(nl);
+        ++stage_number;
+        if (!problem.report().converged && done_delta > 0 && splits < kMaxSplits) {
+          // back to the last converged state, through an intermediate delta
+          problem.solution() = saved;
+          const double mid = std::sqrt(done_delta * st.delta);
+          todo.push_front({mid, false});
+          ++splits;
+          std::ostringstream msg;
+          msg << "continuum: stage did not converge; retrying through delta = " << mid << " 1/s";
+          say(msg.str());
+          continue;
+        }
+        if (problem.report().converged) done_delta = st.delta;
+        todo.pop_front();
       }
-      say(os.str());
-      const Vector<double> saved = problem.solution();
-      problem.solve_nonlinear(nl);
-      ++stage_number;
-      if (!problem.report().converged && done_delta > 0 && splits < kMaxSplits) {
-        // back to the last converged state, through an intermediate delta
-        problem.solution() = saved;
-        const double mid = std::sqrt(done_delta * st.delta);
-        todo.push_front({mid, false});
-        ++splits;
-        std::ostringstream msg;
-        msg << "continuum: stage did not converge; retrying through delta = " << mid << " 1/s";
-        say(msg.str());
-        continue;
-      }
-      if (problem.report().converged) done_delta = st.delta;
-      todo.pop_front();
-    }
     };
     run_stages();
 
@@ -340,6 +341,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.continuation_splits = splits;
     // ---- linearised gravity: one Newton step from the base state of the problem with gravity
     std::unique_ptr<FlowProblem> corrected;
+    Vector<double> du;  // the first-order correction (linearised gravity)
     if (linearised) {
       say("continuum: first-order gravity correction (one linear solve at the base state)");
       const auto t0 = std::chrono::steady_clock::now();
@@ -347,10 +349,9 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       corrected->set_viscosity(&rheology);
       corrected->setup_system();
       corrected->solution() = problem.solution();
-      Vector<double> residual, update;
+      Vector<double> residual;
       corrected->assemble_system(corrected->solution(), true, true, residual);
-      corrected->solve(residual, update);
-      corrected->solution() += update;
+      corrected->solve(residual, du);
       std::ostringstream os;
       out.correction_seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -377,68 +378,57 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     // (the reaction forces spread by the boundary mass matrix), which converges like the
     // forces; sigma(grad u_h).n at the wall converges at rate < 2
     const double phi0 = speed > 0 ? std::atan2(V[1], V[0]) : 0.0;
-    struct SurfaceOutputs {
-      internal::ForceTorque reac, surf;
-      std::vector<double> sigma_n, sigma_t;
-    };
+    // every output of a state in one vector: the reaction (fx, fy, torque), the surface
+    // integral (fx, fy, torque), then sigma_n and sigma_t at the surface angles
+    const std::size_t n_angles = c.surface_theta.size();
     const auto collect = [&](const FlowProblem& fp) {
-      SurfaceOutputs so;
-      so.reac = fp.reaction(kHole, Point2());
-      so.surf = fp.surface_integral(kHole, Point2());
-      for (const double theta : c.surface_theta) {
-        const double phi = phi0 + theta;
+      const auto reac = fp.reaction(kHole, Point2());
+      const auto surf = fp.surface_integral(kHole, Point2());
+      std::vector<double> v = {reac.fx, reac.fy, reac.torque, surf.fx, surf.fy, surf.torque};
+      v.resize(6 + 2 * n_angles);
+      for (std::size_t k = 0; k < n_angles; ++k) {
+        const double phi = phi0 + c.surface_theta[k];
         const Vec2 n_body({std::cos(phi), std::sin(phi)});  // outward normal of the intruder
         const Vec2 t = fp.consistent_traction(kHole, Point2(), phi);  // medium on intruder
         const Vec2 e_phi({-n_body[1], n_body[0]});           // counter-clockwise tangent
-        so.sigma_n.push_back(-(t * n_body));  // > 0 compressive
-        so.sigma_t.push_back(t * e_phi);      // > 0 pulls the surface counter-clockwise
+        v[6 + k] = -(t * n_body);           // sigma_n > 0 compressive
+        v[6 + n_angles + k] = t * e_phi;    // sigma_t > 0 pulls the surface counter-clockwise
       }
-      return so;
+      return v;
     };
-    SurfaceOutputs so;
+    std::vector<double> v;
     if (!corrected) {
-      so = collect(problem);
+      v = collect(problem);
     } else {
       // First order throughout: the outputs are linear functionals of the residual, so they
       // are taken as S(u_0; g) + dS/du . du, the derivative by a central difference along du
       // (exact for the linear gravity terms; O(h^2) for the rheology, h = 1e-4).
       const Vector<double> u0 = problem.solution();
-      Vector<double> du = corrected->solution();
-      du -= u0;
       constexpr double h = 1e-4;
       const auto at = [&](double t) {
         corrected->solution() = u0;
         corrected->solution().add(t, du);
         return collect(*corrected);
       };
-      const SurfaceOutputs s0 = at(0), sp = at(h), sm = at(-h);
-      const auto lin = [h](double v0, double vp, double vm) { return v0 + (vp - vm) / (2 * h); };
-      so = s0;
-      so.reac = {lin(s0.reac.fx, sp.reac.fx, sm.reac.fx), lin(s0.reac.fy, sp.reac.fy, sm.reac.fy),
-                 lin(s0.reac.torque, sp.reac.torque, sm.reac.torque)};
-      so.surf = {lin(s0.surf.fx, sp.surf.fx, sm.surf.fx), lin(s0.surf.fy, sp.surf.fy, sm.surf.fy),
-                 lin(s0.surf.torque, sp.surf.torque, sm.surf.torque)};
-      for (std::size_t k = 0; k < so.sigma_n.size(); ++k) {
-        so.sigma_n[k] = lin(s0.sigma_n[k], sp.sigma_n[k], sm.sigma_n[k]);
-        so.sigma_t[k] = lin(s0.sigma_t[k], sp.sigma_t[k], sm.sigma_t[k]);
-      }
+      v = at(0);
+      const std::vector<double> vp = at(h), vm = at(-h);
+      for (std::size_t k = 0; k < v.size(); ++k) v[k] += (vp[k] - vm[k]) / (2 * h);
       corrected->solution() = u0;  // fields and VTU: the corrected state u_0 + du
       corrected->solution() += du;
     }
-    const auto& reac = so.reac;
-    const auto& surf = so.surf;
-    out.fx = reac.fx;
-    out.fy = reac.fy;
-    out.torque = reac.torque;
-    out.force_fx_surface = surf.fx;
-    out.force_fy_surface = surf.fy;
-    out.torque_surface = surf.torque;
-    out.sigma_n = so.sigma_n;
-    out.sigma_t = so.sigma_t;
+    out.fx = v[0];
+    out.fy = v[1];
+    out.torque = v[2];
+    out.force_fx_surface = v[3];
+    out.force_fy_surface = v[4];
+    out.torque_surface = v[5];
+    out.sigma_n.assign(v.begin() + 6, v.begin() + 6 + n_angles);
+    out.sigma_t.assign(v.begin() + 6 + n_angles, v.end());
     {
       std::ostringstream os;
-      os << "continuum: force (" << reac.fx << ", " << reac.fy << ") N/m, torque " << reac.torque
-         << " N [surface integral (" << surf.fx << ", " << surf.fy << "), " << surf.torque << "]";
+      os << "continuum: force (" << out.fx << ", " << out.fy << ") N/m, torque " << out.torque
+         << " N [surface integral (" << out.force_fx_surface << ", " << out.force_fy_surface
+         << "), " << out.torque_surface << "]";
       say(os.str());
     }
 
