@@ -28,6 +28,7 @@
 #include <omp.h>
 
 #include "grainlift/dem/errors.h"
+#include "step_kernels.h"
 #include "team_barrier.h"
 
 namespace grainlift::dem {
@@ -230,8 +231,10 @@ void DemSystem::build_lists() {
   for (int c = 0; c < nc_rows; ++c) {
     const int lo = c * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
     const auto np = static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]);
-    touch_[c].reserve(np);
-    touch_prev_[c].reserve(np);
+    // room for every pair of the chunk (the screening loop writes before it counts)
+    touch_[c].k.resize(np + 1);
+    touch_prev_[c].k.resize(np + 1);
+    touch_[c].n = touch_prev_[c].n = 0;
   }
   full_history_check_ = true;  // pair indices changed; histories were carried over
   {
@@ -288,19 +291,14 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   std::uint8_t* touched = touched_.data();
   const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
-  std::vector<std::int64_t>& touching = touch_[chunk];
-  std::vector<std::int64_t>& before = touch_prev_[chunk];
-  touching.swap(before);
-  touching.clear();
+  std::swap(touch_[chunk], touch_prev_[chunk]);
+  const TouchList& before_list = touch_prev_[chunk];
+  TouchList& touch_list = touch_[chunk];
   // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
   // a relaxed bed are apart); no stores but the list of touching pairs.
-  for (std::int64_t k = k0; k < k1; ++k) {
-    const int i = owner[k], j = partner[k];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    box.min_image(dx, dy);
-    const double rs = r[i] + r[j];
-    if (dx * dx + dy * dy < rs * rs) touching.push_back(k);
-  }
+  touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r, k0, k1, touch_list.k.data());
+  const std::int64_t* touching = touch_list.k.data();
+  const std::size_t n_touching = touch_list.n;
   // A pair that is apart forgets its history (and its stored force). Only pairs that touched
   // at the step before can hold any: those that no longer touch are found by a merge of the
   // two sorted lists; after a list build every pair is checked.
@@ -311,7 +309,7 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   if (full_history_check_) {
     std::size_t a = 0;
     for (std::int64_t k = k0; k < k1; ++k) {
-      if (a < touching.size() && touching[a] == k) {
+      if (a < n_touching && touching[a] == k) {
         ++a;
         continue;
       }
@@ -319,9 +317,10 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
     }
   } else {
     std::size_t a = 0;
-    for (const std::int64_t k : before) {
-      while (a < touching.size() && touching[a] < k) ++a;
-      if (a < touching.size() && touching[a] == k) continue;
+    for (std::size_t b = 0; b < before_list.n; ++b) {
+      const std::int64_t k = before_list.k[b];
+      while (a < n_touching && touching[a] < k) ++a;
+      if (a < n_touching && touching[a] == k) continue;
       forget(k);
     }
   }
@@ -338,10 +337,10 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   ContactKinematics kin[kBatch];
   ContactForce f[kBatch];
   double bsx[kBatch], bsy[kBatch];
-  const std::size_t nt = touching.size();
+  const std::size_t nt = n_touching;
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
-    const std::int64_t* kb = touching.data() + b0;
+    const std::int64_t* kb = touching + b0;
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
@@ -528,7 +527,20 @@ double DemSystem::finish_impl(int lo, int hi) {
   // are positive and finite, checked by set_bodies).
   const double ax0 = 0.0 + gx, ay0 = 0.0 + gy, al0 = -0.0;
   double maxd2 = 0;
-  for (int i = lo; i < hi; ++i) {
+  // Runs of eight grains without any force by the vector loop (the same operations), the
+  // others one by one, a group of eight at a time.
+  const bool simd = kMode != Kick::first && detail::simd_kick_available();
+  detail::PlainKick plain{px, py, vx, vy, w, xb, yb, flags, touched, dt, h, damp, ax0, ay0, al0, box};
+  for (int i = lo; i < hi;) {
+    if (simd) {
+      const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);
+      if (stop != i) {
+        i = stop;
+        continue;
+      }
+    }
+    const int group_end = simd ? std::min(hi, i + 8) : hi;
+    for (; i < group_end; ++i) {
     double axn, ayn, aln;
     const std::uint8_t fl = flags[i];
     if (!touched[i] && !(fl & kCandidate)) {
@@ -606,6 +618,7 @@ double DemSystem::finish_impl(int lo, int hi) {
     if (bits(vx[i]) != bits(vxi)) vx[i] = vxi;
     if (bits(vy[i]) != bits(vyi)) vy[i] = vyi;
     if (bits(w[i]) != bits(wi)) w[i] = wi;
+    }
   }
   return maxd2;
 }

@@ -188,8 +188,13 @@ class DemSystem {
   /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
   /// on one thread (in the same order as the gather of the threaded path: same bits).
   std::vector<double> fx_, fy_, tq_;
-  std::vector<std::vector<std::int64_t>> touch_;  ///< per chunk: touching pairs of the step
-  std::vector<std::vector<std::int64_t>> touch_prev_;  ///< per chunk: those of the step before
+  /// Touching pairs of one chunk: k[0, n) (k has room for every pair of the chunk + 1).
+  struct TouchList {
+    std::vector<std::int64_t> k;
+    std::size_t n = 0;
+  };
+  std::vector<TouchList> touch_;  ///< per chunk: touching pairs of the step
+  std::vector<TouchList> touch_prev_;  ///< per chunk: those of the step before
   /// The history (and stored force) of a listed pair is non-zero only if the pair touched at
   /// the step before (touch_prev_), except after a list build or a change of
   /// store_pair_forces_: then the next force pass checks every pair.

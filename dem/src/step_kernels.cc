@@ -1,0 +1,139 @@
+// Compiled with -ffp-contract=off (dem/CMakeLists.txt): no fused multiply-add may change a
+// bit against the scalar code of dem_system.cc.
+#include "step_kernels.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// GCC 12 warns inside its own AVX-512 headers (the undefined source of unmasked intrinsics)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#include <immintrin.h>
+#define GRAINLIFT_AVX512 1
+#endif
+
+namespace grainlift::dem::detail {
+
+// Every k is written, the count advances only for touching pairs (a touching pair is rare
+// and unpredictable). The minimum image subtracts l, -l or +0.0 (d - 0.0 is d, d - (-l) is
+// d + l): the bits of PeriodicBox::min_image.
+std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* r, std::int64_t k0,
+                         std::int64_t k1, std::int64_t* out) {
+  const double lx = box.periodic_x ? box.lx() : 0.0, ly = box.periodic_y ? box.ly() : 0.0;
+  const double hx = box.periodic_x ? 0.5 * lx : HUGE_VAL;
+  const double hy = box.periodic_y ? 0.5 * ly : HUGE_VAL;
+  std::size_t n = 0;
+  for (std::int64_t k = k0; k < k1; ++k) {
+    const int i = owner[k], j = partner[k];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    dx -= dx > hx ? lx : (dx < -hx ? -lx : 0.0);
+    dy -= dy > hy ? ly : (dy < -hy ? -ly : 0.0);
+    const double rs = r[i] + r[j];
+    out[n] = k;
+    n += dx * dx + dy * dy < rs * rs ? 1 : 0;
+  }
+  return n;
+}
+
+#ifdef GRAINLIFT_AVX512
+namespace {
+
+const bool kHaveAvx512 = __builtin_cpu_supports("avx512f");
+
+template <bool kDrift>
+__attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, int hi,
+                                                   double& max_d2) {
+  const PeriodicBox& b = k.box;
+  // wrap: subtract l when x >= max, -l when x < min, +0.0 otherwise (PeriodicBox::wrap)
+  const __m512d wlx = _mm512_set1_pd(b.periodic_x ? b.lx() : 0.0);
+  const __m512d wly = _mm512_set1_pd(b.periodic_y ? b.ly() : 0.0);
+  const __m512d nwlx = _mm512_set1_pd(b.periodic_x ? -b.lx() : 0.0);
+  const __m512d nwly = _mm512_set1_pd(b.periodic_y ? -b.ly() : 0.0);
+  const __m512d xmax = _mm512_set1_pd(b.periodic_x ? b.xmax : HUGE_VAL);
+  const __m512d xmin = _mm512_set1_pd(b.periodic_x ? b.xmin : -HUGE_VAL);
+  const __m512d ymax = _mm512_set1_pd(b.periodic_y ? b.ymax : HUGE_VAL);
+  const __m512d ymin = _mm512_set1_pd(b.periodic_y ? b.ymin : -HUGE_VAL);
+  // minimum image (PeriodicBox::min_image): dx > l/2 subtracts l, dx < -l/2 adds it
+  const __m512d hx = _mm512_set1_pd(b.periodic_x ? 0.5 * b.lx() : HUGE_VAL);
+  const __m512d hy = _mm512_set1_pd(b.periodic_y ? 0.5 * b.ly() : HUGE_VAL);
+  const __m512d nhx = _mm512_set1_pd(b.periodic_x ? -(0.5 * b.lx()) : -HUGE_VAL);
+  const __m512d nhy = _mm512_set1_pd(b.periodic_y ? -(0.5 * b.ly()) : -HUGE_VAL);
+  const __m512d zero = _mm512_setzero_pd();
+  const __m512d dt = _mm512_set1_pd(k.dt), damp = _mm512_set1_pd(k.damp);
+  // h a0, as the scalar code computes it for each grain
+  const __m512d hax = _mm512_set1_pd(k.h * k.ax0), hay = _mm512_set1_pd(k.h * k.ay0);
+  const __m512d hal = _mm512_set1_pd(k.h * k.al0);
+  __m512d md2 = _mm512_set1_pd(max_d2);
+  for (; i + 8 <= hi; i += 8) {
+    std::uint64_t f, t;
+    std::memcpy(&f, k.flags + i, 8);
+    std::memcpy(&t, k.touched + i, 8);
+    if (f | t) break;
+    // second half kick: v(t+dt) = (v + h a0) damp
+    const __m512d vx0 = _mm512_loadu_pd(k.vx + i), vy0 = _mm512_loadu_pd(k.vy + i);
+    const __m512d w0 = _mm512_loadu_pd(k.w + i);
+    __m512d vx = _mm512_mul_pd(_mm512_add_pd(vx0, hax), damp);
+    __m512d vy = _mm512_mul_pd(_mm512_add_pd(vy0, hay), damp);
+    __m512d w = _mm512_mul_pd(_mm512_add_pd(w0, hal), damp);
+    if (kDrift) {
+      // the next step's half kick and drift
+      vx = _mm512_add_pd(vx, hax);
+      vy = _mm512_add_pd(vy, hay);
+      w = _mm512_add_pd(w, hal);
+      const __m512d x0 = _mm512_loadu_pd(k.x + i), y0 = _mm512_loadu_pd(k.y + i);
+      __m512d x = _mm512_add_pd(x0, _mm512_mul_pd(dt, vx));
+      __m512d y = _mm512_add_pd(y0, _mm512_mul_pd(dt, vy));
+      __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmin, _CMP_LT_OQ), zero, nwlx);
+      x = _mm512_sub_pd(x, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmax, _CMP_GE_OQ), s, wlx));
+      s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymin, _CMP_LT_OQ), zero, nwly);
+      y = _mm512_sub_pd(y, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymax, _CMP_GE_OQ), s, wly));
+      // positions too are stored only where a bit changes
+      _mm512_mask_storeu_pd(k.x + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(x0)), x);
+      _mm512_mask_storeu_pd(k.y + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(y), _mm512_castpd_si512(y0)), y);
+      __m512d dx = _mm512_sub_pd(x, _mm512_cvtps_pd(_mm256_loadu_ps(k.xb + i)));
+      __m512d dy = _mm512_sub_pd(y, _mm512_cvtps_pd(_mm256_loadu_ps(k.yb + i)));
+      s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, nhx, _CMP_LT_OQ), zero, nwlx);
+      dx = _mm512_sub_pd(dx, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, hx, _CMP_GT_OQ), s, wlx));
+      s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, nhy, _CMP_LT_OQ), zero, nwly);
+      dy = _mm512_sub_pd(dy, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, hy, _CMP_GT_OQ), s, wly));
+      const __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+      md2 = _mm512_max_pd(d2, md2);  // a NaN d2 is ignored, as by the scalar test
+    }
+    // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
+    _mm512_mask_storeu_pd(k.vx + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(vx), _mm512_castpd_si512(vx0)), vx);
+    _mm512_mask_storeu_pd(k.vy + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(vy), _mm512_castpd_si512(vy0)), vy);
+    _mm512_mask_storeu_pd(k.w + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(w), _mm512_castpd_si512(w0)), w);
+  }
+  if (kDrift) max_d2 = _mm512_reduce_max_pd(md2);
+  return i;
+}
+
+}  // namespace
+#endif
+
+bool simd_kick_available() {
+#ifdef GRAINLIFT_AVX512
+  static const bool on = kHaveAvx512 && !std::getenv("GRAINLIFT_NO_SIMD");
+  return on;
+#else
+  return false;
+#endif
+}
+
+int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
+#ifdef GRAINLIFT_AVX512
+  if (simd_kick_available()) {
+    return drift ? kick_avx512<true>(k, i, hi, max_d2) : kick_avx512<false>(k, i, hi, max_d2);
+  }
+#endif
+  (void)k;
+  (void)drift;
+  (void)hi;
+  (void)max_d2;
+  return i;
+}
+
+}  // namespace grainlift::dem::detail

@@ -1,0 +1,49 @@
+// Inner loops of the time step kept apart from DemSystem: the pair screen (pass 1 of the
+// pair loop) and the kick/drift of grains without any force (AVX-512 when the CPU has it).
+// Each vector loop does lane by lane the IEEE operations of the scalar code, in the same
+// order (this file is compiled without floating-point contraction): the same bits.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "grainlift/dem/periodic_box.h"
+
+namespace grainlift::dem::detail {
+
+/// @brief Write the indices k in [k0, k1) of the pairs (owner[k], partner[k]) that touch,
+/// |x_i - x_j| < r_i + r_j (minimum image), to out in increasing order; return their number.
+/// Branch-free: out needs room for k1 - k0 + 1 entries (it writes before it counts).
+std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* r, std::int64_t k0,
+                         std::int64_t k1, std::int64_t* out);
+
+/// The arrays and constants of the kick of grains without any force.
+struct PlainKick {
+  double* x;
+  double* y;
+  double* vx;
+  double* vy;
+  double* w;
+  const float* xb;
+  const float* yb;
+  const std::uint8_t* flags;    ///< must be 0 (no candidate, accelerations already a0)
+  const std::uint8_t* touched;  ///< must be 0 (no touching pair)
+  double dt, h, damp;
+  double ax0, ay0, al0;  ///< the accelerations of a grain without force
+  PeriodicBox box;
+};
+
+/// @brief From row i on, in groups of eight, the second half kick of grains with flags and
+/// touched both 0 (and with drift, the next half kick and drift), as DemSystem::finish_impl
+/// does for such a grain; stops at the first group with another grain, or fewer than eight
+/// rows before hi. Returns the row where it stopped (i itself when it did nothing or without
+/// AVX-512); max_d2 is raised to the largest squared displacement from (xb, yb) of the
+/// grains it moved (drift only).
+int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2);
+
+/// @brief Whether kick_plain has a vector loop on this CPU (AVX-512F, not disabled by the
+/// environment variable GRAINLIFT_NO_SIMD).
+bool simd_kick_available();
+
+}  // namespace grainlift::dem::detail
