@@ -27,6 +27,7 @@
 
 #include <omp.h>
 
+#include "grainlift/dem/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
 #include "step_kernels.h"
 #include "team_barrier.h"
@@ -334,9 +335,10 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   const bool pair_consts = !radii_scaled_;
   const double* reff = pair_reff_.data();
   const double* meff = pair_meff_.data();
-  ContactKinematics kin[kBatch];
-  ContactForce f[kBatch];
-  double bsx[kBatch], bsy[kBatch];
+  // the batch in structure-of-arrays form (contact_law_batch.h); value-initialised: lanes
+  // past a short batch hold finite numbers
+  ContactBatch cb{};
+  static_assert(kBatch == ContactBatch::kLanes);
   const std::size_t nt = n_touching;
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
@@ -350,53 +352,54 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       const double rs = ri + rj;
       const double dist = std::sqrt(dx * dx + dy * dy);
       const double inv_dist = 1.0 / dist;
-      ContactKinematics& kn = kin[b];
-      kn.nx = dx * inv_dist;
-      kn.ny = dy * inv_dist;
-      kn.delta = rs - dist;
+      const double nx = dx * inv_dist, ny = dy * inv_dist;
+      cb.nx[b] = nx;
+      cb.ny[b] = ny;
+      cb.delta[b] = rs - dist;
       if (pair_consts) {
-        kn.r_eff = reff[k];
-        kn.m_eff = meff[k];
+        cb.r_eff[b] = reff[k];
+        cb.m_eff[b] = meff[k];
       } else {
-        kn.r_eff = ri * rj / rs;
-        kn.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+        cb.r_eff[b] = ri * rj / rs;
+        cb.m_eff[b] = 1.0 / (inv_m[i] + inv_m[j]);
       }
-      kn.mu = mu;
-      const double tx = -kn.ny, ty = kn.nx;
+      const double tx = -ny, ty = nx;
       // predicted relative velocity of the contact point at t+dt
       const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
       const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
       const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
-      kn.vn = vrx * kn.nx + vry * kn.ny;
-      kn.vtx = vrx - kn.vn * kn.nx;
-      kn.vty = vry - kn.vn * kn.ny;
+      const double vn = vrx * nx + vry * ny;
+      cb.vn[b] = vn;
+      cb.vtx[b] = vrx - vn * nx;
+      cb.vty[b] = vry - vn * ny;
       // displacement of the contact point over the step (half-step velocities)
       const double wh = w[i] * ri + w[j] * rj;
-      kn.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
-      kn.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
-      bsx[b] = sx[k];
-      bsy[b] = sy[k];
+      cb.dsx[b] = spring_dt * (vx[i] - vx[j] - wh * tx);
+      cb.dsy[b] = spring_dt * (vy[i] - vy[j] - wh * ty);
+      cb.sx[b] = sx[k];
+      cb.sy[b] = sy[k];
     }
-    for (std::size_t b = 0; b < nb; ++b) contact_force(law, kin[b], bsx[b], bsy[b], f[b]);
+    contact_force_batch(law, mu, cb, nb);
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
-      sx[k] = bsx[b];
-      sy[k] = bsy[b];
-      const double qk = kin[b].nx * f[b].fty - kin[b].ny * f[b].ftx;
+      sx[k] = cb.sx[b];
+      sy[k] = cb.sy[b];
+      const double fxb = cb.fx[b], fyb = cb.fy[b];
+      const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
       if (store) {
-        pfx[k] = f[b].fx;
-        pfy[k] = f[b].fy;
+        pfx[k] = fxb;
+        pfy[k] = fyb;
         pq[k] = qk;
       }
       if (scatter) {
-        sfx[i] += f[b].fx;
-        sfy[i] += f[b].fy;
+        sfx[i] += fxb;
+        sfy[i] += fyb;
         sq[i] += qk;
         touched[i] = 1;
         if (j < ng) {
-          sfx[j] -= f[b].fx;
-          sfy[j] -= f[b].fy;
+          sfx[j] -= fxb;
+          sfy[j] -= fyb;
           sq[j] += qk;
           touched[j] = 1;
         }
@@ -408,8 +411,8 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       // largest overlap fraction: the division only where it can raise the maximum (the
       // pre-test has a margin far above the rounding of either side)
       const double dmin = 2.0 * std::min(r[i], r[j]);
-      if (kin[b].delta > max_ov * dmin * (1.0 - 1e-12)) {
-        const double ov = kin[b].delta / dmin;
+      if (cb.delta[b] > max_ov * dmin * (1.0 - 1e-12)) {
+        const double ov = cb.delta[b] / dmin;
         if (ov > max_ov) max_ov = ov;
       }
     }
@@ -529,7 +532,7 @@ double DemSystem::finish_impl(int lo, int hi) {
   double maxd2 = 0;
   // Runs of eight grains without any force by the vector loop (the same operations), the
   // others one by one, a group of eight at a time.
-  const bool simd = kMode != Kick::first && detail::simd_kick_available();
+  const bool simd = kMode != Kick::first && detail::avx512_enabled();
   detail::PlainKick plain{px, py, vx, vy, w, xb, yb, flags, touched, dt, h, damp, ax0, ay0, al0, box};
   for (int i = lo; i < hi;) {
     if (simd) {

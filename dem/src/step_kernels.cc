@@ -114,7 +114,7 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
 }  // namespace
 #endif
 
-bool simd_kick_available() {
+bool avx512_enabled() {
 #ifdef GRAINLIFT_AVX512
   static const bool on = kHaveAvx512 && !std::getenv("GRAINLIFT_NO_SIMD");
   return on;
@@ -125,7 +125,7 @@ bool simd_kick_available() {
 
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
 #ifdef GRAINLIFT_AVX512
-  if (simd_kick_available()) {
+  if (avx512_enabled()) {
     return drift ? kick_avx512<true>(k, i, hi, max_d2) : kick_avx512<false>(k, i, hi, max_d2);
   }
 #endif

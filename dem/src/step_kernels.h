@@ -42,8 +42,8 @@ struct PlainKick {
 /// grains it moved (drift only).
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2);
 
-/// @brief Whether kick_plain has a vector loop on this CPU (AVX-512F, not disabled by the
-/// environment variable GRAINLIFT_NO_SIMD).
-bool simd_kick_available();
+/// @brief Whether the vector loops run (kick_plain, contact_force_batch): the CPU has
+/// AVX-512F and the environment variable GRAINLIFT_NO_SIMD is not set (checked once).
+bool avx512_enabled();
 
 }  // namespace grainlift::dem::detail
