@@ -16,26 +16,41 @@
 
 namespace grainlift::dem::detail {
 
+namespace {
 // Every k is written, the count advances only for touching pairs (a touching pair is rare
 // and unpredictable). The minimum image subtracts l, -l or +0.0 (d - 0.0 is d, d - (-l) is
-// d + l): the bits of PeriodicBox::min_image.
-std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
-                         const double* x, const double* y, const double* r, std::int64_t k0,
-                         std::int64_t k1, std::int64_t* out) {
-  const double lx = box.periodic_x ? box.lx() : 0.0, ly = box.periodic_y ? box.ly() : 0.0;
-  const double hx = box.periodic_x ? 0.5 * lx : HUGE_VAL;
-  const double hy = box.periodic_y ? 0.5 * ly : HUGE_VAL;
+// d + l): the bits of PeriodicBox::min_image. One copy per periodicity (no image code along
+// a wall direction).
+template <bool kPx, bool kPy>
+std::size_t screen(const PeriodicBox& box, const int* owner, const int* partner,
+                   const double* x, const double* y, const double* r, std::int64_t k0,
+                   std::int64_t k1, std::int64_t* out) {
+  const double lx = box.lx(), ly = box.ly();
+  const double hx = 0.5 * lx, hy = 0.5 * ly;
   std::size_t n = 0;
+#pragma GCC unroll 2
   for (std::int64_t k = k0; k < k1; ++k) {
     const int i = owner[k], j = partner[k];
     double dx = x[i] - x[j], dy = y[i] - y[j];
-    dx -= dx > hx ? lx : (dx < -hx ? -lx : 0.0);
-    dy -= dy > hy ? ly : (dy < -hy ? -ly : 0.0);
+    if (kPx) dx -= dx > hx ? lx : (dx < -hx ? -lx : 0.0);
+    if (kPy) dy -= dy > hy ? ly : (dy < -hy ? -ly : 0.0);
     const double rs = r[i] + r[j];
     out[n] = k;
     n += dx * dx + dy * dy < rs * rs ? 1 : 0;
   }
   return n;
+}
+}  // namespace
+
+std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* r, std::int64_t k0,
+                         std::int64_t k1, std::int64_t* out) {
+  if (box.periodic_x) {
+    return box.periodic_y ? screen<true, true>(box, owner, partner, x, y, r, k0, k1, out)
+                          : screen<true, false>(box, owner, partner, x, y, r, k0, k1, out);
+  }
+  return box.periodic_y ? screen<false, true>(box, owner, partner, x, y, r, k0, k1, out)
+                        : screen<false, false>(box, owner, partner, x, y, r, k0, k1, out);
 }
 
 #ifdef GRAINLIFT_AVX512
