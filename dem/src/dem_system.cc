@@ -533,7 +533,10 @@ double DemSystem::finish_impl(int lo, int hi) {
   // Runs of eight grains without any force by the vector loop (the same operations), the
   // others one by one, a group of eight at a time.
   const bool simd = kMode != Kick::first && detail::avx512_enabled();
-  detail::PlainKick plain{px, py, vx, vy, w, xb, yb, flags, touched, dt, h, damp, ax0, ay0, al0, box};
+  detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
+                          dt,    h,     damp,   ax0,    ay0,   al0, kScatter, sfx,       sfy,
+                          sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
+                          kCandidate, kAccelSet, box};
   for (int i = lo; i < hi;) {
     if (simd) {
       const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);

@@ -81,23 +81,59 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
   // h a0, as the scalar code computes it for each grain
   const __m512d hax = _mm512_set1_pd(k.h * k.ax0), hay = _mm512_set1_pd(k.h * k.ay0);
   const __m512d hal = _mm512_set1_pd(k.h * k.al0);
+  const __m512d h = _mm512_set1_pd(k.h);
+  const __m512d gx = _mm512_set1_pd(k.gx), gy = _mm512_set1_pd(k.gy);
+  const __m512i sign = _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ULL));
+  constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
   __m512d md2 = _mm512_set1_pd(max_d2);
   for (; i + 8 <= hi; i += 8) {
     std::uint64_t f, t;
     std::memcpy(&f, k.flags + i, 8);
     std::memcpy(&t, k.touched + i, 8);
-    if (f | t) break;
-    // second half kick: v(t+dt) = (v + h a0) damp
+    __m512d kx = hax, ky = hay, kw = hal;  // h a of each lane
+    if (f | t) {
+      // Grains with pair forces (one thread: summed in sfx, sfy, sq), none touching the
+      // intruder: the accelerations of finish_impl's general branch. An untouched lane has
+      // sums +0.0 and gets exactly a0 from the same expressions.
+      if (!k.scatter || (f & (kOnes * k.candidate_bit))) break;
+      const __m512d fx = _mm512_loadu_pd(k.sfx + i), fy = _mm512_loadu_pd(k.sfy + i);
+      const __m512d qs = _mm512_loadu_pd(k.sq + i);
+      const __m512d inv_m = _mm512_loadu_pd(k.inv_m + i);
+      // tq = -r qs (unary minus of r, then the product)
+      const __m512d mr = _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(k.r + i)), sign));
+      const __m512d axn = _mm512_add_pd(_mm512_mul_pd(fx, inv_m), gx);
+      const __m512d ayn = _mm512_add_pd(_mm512_mul_pd(fy, inv_m), gy);
+      const __m512d aln = _mm512_mul_pd(_mm512_mul_pd(mr, qs), _mm512_loadu_pd(k.inv_i + i));
+      const __m512d ax0 = _mm512_loadu_pd(k.ax + i), ay0 = _mm512_loadu_pd(k.ay + i);
+      const __m512d al0 = _mm512_loadu_pd(k.al + i);
+      _mm512_mask_storeu_pd(k.ax + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(axn), _mm512_castpd_si512(ax0)), axn);
+      _mm512_mask_storeu_pd(k.ay + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(ayn), _mm512_castpd_si512(ay0)), ayn);
+      _mm512_mask_storeu_pd(k.al + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(aln), _mm512_castpd_si512(al0)), aln);
+      // sums of the touched lanes zeroed for the next step; touched cleared; the flag
+      // "accelerations set" on exactly the touched lanes (no lane is a candidate)
+      const __mmask8 touched = _mm512_test_epi64_mask(
+          _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(t))), _mm512_set1_epi64(0xff));
+      _mm512_mask_storeu_pd(k.sfx + i, touched, zero);
+      _mm512_mask_storeu_pd(k.sfy + i, touched, zero);
+      _mm512_mask_storeu_pd(k.sq + i, touched, zero);
+      const std::uint64_t nf = t * k.accel_bit, nt = 0;
+      std::memcpy(k.flags + i, &nf, 8);
+      std::memcpy(k.touched + i, &nt, 8);
+      kx = _mm512_mul_pd(h, axn);
+      ky = _mm512_mul_pd(h, ayn);
+      kw = _mm512_mul_pd(h, aln);
+    }
+    // second half kick: v(t+dt) = (v + h a) damp
     const __m512d vx0 = _mm512_loadu_pd(k.vx + i), vy0 = _mm512_loadu_pd(k.vy + i);
     const __m512d w0 = _mm512_loadu_pd(k.w + i);
-    __m512d vx = _mm512_mul_pd(_mm512_add_pd(vx0, hax), damp);
-    __m512d vy = _mm512_mul_pd(_mm512_add_pd(vy0, hay), damp);
-    __m512d w = _mm512_mul_pd(_mm512_add_pd(w0, hal), damp);
+    __m512d vx = _mm512_mul_pd(_mm512_add_pd(vx0, kx), damp);
+    __m512d vy = _mm512_mul_pd(_mm512_add_pd(vy0, ky), damp);
+    __m512d w = _mm512_mul_pd(_mm512_add_pd(w0, kw), damp);
     if (kDrift) {
       // the next step's half kick and drift
-      vx = _mm512_add_pd(vx, hax);
-      vy = _mm512_add_pd(vy, hay);
-      w = _mm512_add_pd(w, hal);
+      vx = _mm512_add_pd(vx, kx);
+      vy = _mm512_add_pd(vy, ky);
+      w = _mm512_add_pd(w, kw);
       const __m512d x0 = _mm512_loadu_pd(k.x + i), y0 = _mm512_loadu_pd(k.y + i);
       __m512d x = _mm512_add_pd(x0, _mm512_mul_pd(dt, vx));
       __m512d y = _mm512_add_pd(y0, _mm512_mul_pd(dt, vy));

@@ -18,7 +18,7 @@ std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* pa
                          const double* x, const double* y, const double* r, std::int64_t k0,
                          std::int64_t k1, std::int64_t* out);
 
-/// The arrays and constants of the kick of grains without any force.
+/// The arrays and constants of the kick (DemSystem::finish_impl).
 struct PlainKick {
   double* x;
   double* y;
@@ -27,16 +27,31 @@ struct PlainKick {
   double* w;
   const float* xb;
   const float* yb;
-  const std::uint8_t* flags;    ///< must be 0 (no candidate, accelerations already a0)
-  const std::uint8_t* touched;  ///< must be 0 (no touching pair)
+  std::uint8_t* flags;    ///< per grain: candidate_bit, accel_bit
+  std::uint8_t* touched;  ///< per grain: 1 if a listed pair touches
   double dt, h, damp;
   double ax0, ay0, al0;  ///< the accelerations of a grain without force
+  // one thread (scatter): the pair-force sums per grain, and what the accelerations need
+  bool scatter;
+  double* sfx;
+  double* sfy;
+  double* sq;
+  const double* inv_m;
+  const double* inv_i;
+  const double* r;
+  double* ax;
+  double* ay;
+  double* al;
+  double gx, gy;
+  std::uint8_t candidate_bit, accel_bit;
   PeriodicBox box;
 };
 
-/// @brief From row i on, in groups of eight, the second half kick of grains with flags and
-/// touched both 0 (and with drift, the next half kick and drift), as DemSystem::finish_impl
-/// does for such a grain; stops at the first group with another grain, or fewer than eight
+/// @brief From row i on, in groups of eight, what DemSystem::finish_impl does: the second
+/// half kick (and with drift, the next half kick and drift) of grains without any force
+/// (flags and touched 0), and with scatter also of grains with pair forces (summed in sfx,
+/// sfy, sq) and their accelerations; stops at the first group with a grain it does not
+/// handle (a candidate of the intruder; any force without scatter), or fewer than eight
 /// rows before hi. Returns the row where it stopped (i itself when it did nothing or without
 /// AVX-512); max_d2 is raised to the largest squared displacement from (xb, yb) of the
 /// grains it moved (drift only).
