@@ -242,12 +242,14 @@ void DemSystem::build_lists() {
     const std::size_t np = nl_.pairs();
     pair_reff_.resize(np);
     pair_meff_.resize(np);
+    pair_rs2_.resize(np);
     const double* r = p_.r.data();
     const double* inv_m = p_.inv_m.data();
     for (std::size_t k = 0; k < np; ++k) {
       const int i = nl_.owner[k], j = nl_.partner[k];
       const double ri = r[i], rj = r[j];
       const double rs = ri + rj;
+      pair_rs2_[k] = rs * rs;  // as the scalar screen: (r_i + r_j)^2
       pair_reff_[k] = ri * rj / rs;
       pair_meff_[k] = 1.0 / (inv_m[i] + inv_m[j]);
     }
@@ -297,7 +299,9 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   TouchList& touch_list = touch_[chunk];
   // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
   // a relaxed bed are apart); no stores but the list of touching pairs.
-  touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r, k0, k1, touch_list.k.data());
+  touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r,
+                                      radii_scaled_ ? nullptr : pair_rs2_.data(), n_total_,
+                                      k0, k1, touch_list.k.data());
   const std::int64_t* touching = touch_list.k.data();
   const std::size_t n_touching = touch_list.n;
   // A pair that is apart forgets its history (and its stored force). Only pairs that touched

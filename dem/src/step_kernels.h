@@ -13,10 +13,12 @@ namespace grainlift::dem::detail {
 
 /// @brief Write the indices k in [k0, k1) of the pairs (owner[k], partner[k]) that touch,
 /// |x_i - x_j| < r_i + r_j (minimum image), to out in increasing order; return their number.
-/// Branch-free: out needs room for k1 - k0 + 1 entries (it writes before it counts).
+/// Branch-free: out needs room for k1 - k0 + 1 entries (it writes before it counts). With
+/// rs2 (per pair (r_i + r_j)^2, computed as here) and AVX-512, eight pairs at a time;
+/// n_total: particles in x and y.
 std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
-                         const double* x, const double* y, const double* r, std::int64_t k0,
-                         std::int64_t k1, std::int64_t* out);
+                         const double* x, const double* y, const double* r, const double* rs2,
+                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out);
 
 /// The arrays and constants of the kick (DemSystem::finish_impl).
 struct PlainKick {

@@ -201,6 +201,7 @@ class DemSystem {
   bool full_history_check_ = true;
   /// per listed pair: r_i r_j / (r_i + r_j) and 1 / (1/m_i + 1/m_j), set at the build
   std::vector<double> pair_reff_, pair_meff_;
+  std::vector<double> pair_rs2_;  ///< per listed pair: (r_i + r_j)^2, set at the build
   bool radii_scaled_ = false;  ///< a radius changed since the build: pair constants stale
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
