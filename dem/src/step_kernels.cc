@@ -2,9 +2,14 @@
 // bit against the scalar code of dem_system.cc.
 #include "step_kernels.h"
 
+#include <atomic>
+#include "grainlift/dem/vector_kernels.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+
+#include "grainlift/dem/vector_kernels.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 // GCC 12 warns inside its own AVX-512 headers (the undefined source of unmasked intrinsics)
@@ -246,14 +251,27 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
 }  // namespace
 #endif
 
+namespace {
+std::atomic<bool> g_vector_allowed{true};
+}  // namespace
+
 bool avx512_enabled() {
 #ifdef GRAINLIFT_AVX512
-  static const bool on = kHaveAvx512 && !std::getenv("GRAINLIFT_NO_SIMD");
-  return on;
+  static const bool cpu = kHaveAvx512 && !std::getenv("GRAINLIFT_NO_SIMD");
+  return cpu && g_vector_allowed.load(std::memory_order_relaxed);
 #else
   return false;
 #endif
 }
+
+}  // namespace grainlift::dem::detail
+
+namespace grainlift::dem {
+void set_vector_kernels(bool on) { detail::g_vector_allowed.store(on, std::memory_order_relaxed); }
+bool vector_kernels() { return detail::avx512_enabled(); }
+}  // namespace grainlift::dem
+
+namespace grainlift::dem::detail {
 
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
 #ifdef GRAINLIFT_AVX512
