@@ -11,10 +11,12 @@
 // Without velocity-dependent forces this is plain velocity Verlet (symplectic).
 //
 // How it runs (advance(n); step() is advance(1)): one OpenMP parallel region per n steps, or
-// per list rebuild, with two barriers per step. Work is handed out in chunks of kChunkRows
-// grains (item 0: the intruder) from a shared counter; which thread takes which chunk does
-// not change a bit of the results (every per-grain sum is taken in pair order, see
-// chunk_forces and finish_impl). Inside advance(), stage 3 of one step and stage 1 of the
+// per list rebuild. Work is handed out in chunks of kChunkRows grains (item 0: the intruder)
+// from a shared counter; which thread takes which chunk does not change a bit of the results
+// (every per-grain sum is taken in pair order, see chunk_forces and finish_impl). One thread
+// runs run_segment (two phases per step); a team runs run_segment_team, where the items of
+// all steps form one sequence and wait only for the items they depend on (no team barrier
+// inside a segment). Inside advance(), stage 3 of one step and stage 1 of the
 // next are one pass over the particle arrays (finish_impl<.., Kick::drift>); the last step
 // of a call ends with stage 3 alone, so the state between calls is that of single steps.
 #include "grainlift/dem/dem_system.h"
@@ -26,6 +28,10 @@
 #include <cstring>
 
 #include <omp.h>
+#include <sched.h>
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
 #include "grainlift/dem/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
@@ -237,6 +243,21 @@ void DemSystem::build_lists() {
     touch_prev_[c].k.resize(np + 1);
     touch_[c].n = touch_prev_[c].n = 0;
   }
+  // per chunk: the first chunk owning a pair with a partner in it (the pair loops that read
+  // or add to its grains are those of chunks [kick_dep_[c], c]), for the threaded step
+  kick_dep_.resize(static_cast<std::size_t>(nc_rows));
+  for (int c = 0; c < nc_rows; ++c) kick_dep_[c] = c;
+  for (std::size_t k = 0; k < nl_.pairs(); ++k) {
+    const int j = nl_.partner[k];
+    if (j >= n_grains_) continue;
+    int& dep = kick_dep_[j / kChunkRows];
+    dep = std::min(dep, nl_.owner[k] / kChunkRows);
+  }
+  if (static_cast<int>(force_done_size_) < nc_rows + 1) {
+    force_done_.reset(new std::atomic<long long>[static_cast<std::size_t>(nc_rows) + 1]);
+    force_done_size_ = static_cast<std::size_t>(nc_rows) + 1;
+  }
+  kick_d2_.resize(static_cast<std::size_t>(nc_rows) + 1);
   full_history_check_ = true;  // pair indices changed; histories were carried over
   {
     const std::size_t np = nl_.pairs();
@@ -259,7 +280,7 @@ void DemSystem::build_lists() {
   ++builds_;
 }
 
-void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
+void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
   const double h = 0.5 * spring_dt;  // predicted v(t+dt) = v(t+dt/2) + h a(t)
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
@@ -311,7 +332,7 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
     if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
     if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
   };
-  if (full_history_check_) {
+  if (full_check) {
     std::size_t a = 0;
     for (std::int64_t k = k0; k < k1; ++k) {
       if (a < n_touching && touching[a] == k) {
@@ -683,7 +704,7 @@ void DemSystem::prepare() {
   build_lists();
   double max_ov = max_overlap_;
   intruder_forces(0.0, max_ov);
-  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov);
+  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_);
   full_history_check_ = false;
   max_overlap_ = max_ov;
   finish_rows(0, n_grains_, Kick::first);
@@ -771,7 +792,7 @@ long long DemSystem::run_segment(long long m) {
         if (c == 0) {
           intruder_forces(dt, max_ov);
         } else {
-          chunk_forces(c - 1, dt, max_ov);
+          chunk_forces(c - 1, dt, max_ov, full_history_check_);
         }
       }
       barrier.wait(reset);
@@ -803,11 +824,142 @@ long long DemSystem::run_segment(long long m) {
   return completed;
 }
 
+namespace {
+/// Spin (then yield) until ready() holds.
+template <class Ready>
+inline void wait_until(Ready ready) {
+  for (int n = 0; !ready(); ++n) {
+    if (n < 2000) {
+#if defined(__x86_64__) || defined(__i386__)
+      _mm_pause();
+#endif
+    } else {
+      sched_yield();
+    }
+  }
+}
+}  // namespace
+
+// The threaded step without a team barrier inside the segment. Work items, one sequence for all
+// steps, handed out from one counter: per step, the pair forces (item 0: the intruder's
+// contacts, 1 + c: the pairs owned by chunk c), then the kicks (item 0: the intruder's motion
+// and the clock, 1 + c: the grains of chunk c). A force item of step s waits until every kick
+// item of step s - 1 is done and the list check for step s is taken (by the thread that
+// completed the last of them, from the per-item displacements); a kick item of chunk c waits
+// only for the force items that read or add to its grains (chunks kick_dep_[c] to c, and the
+// intruder). A thread that is descheduled holds up the others only through the items it holds,
+// not by having to arrive at a barrier. The operations, and so the bits, are those of
+// run_segment (every per-grain sum is taken in pair order at the kick, whoever computed the
+// pair forces).
+long long DemSystem::run_segment_team(long long m) {
+  const int team = team_;
+  const int nchunks = chunks();
+  const int per_phase = nchunks + 1;
+  const long long per_step = 2LL * per_phase;
+  const double dt = opt_.dt;
+  const int ng = n_grains_;
+  const int rows_per_chunk = kChunkRows;
+  detail::TeamBarrier barrier(team);
+  std::atomic<int> init_next{0};
+  std::atomic<long long> next{0};
+  std::atomic<long long> kicks_done{0};  // kick items completed in this segment
+  std::atomic<long long> decided{-1};    // list check taken for steps <= decided
+  std::atomic<long long> stop_step{m};   // first step not to run (a rebuild is due)
+  std::atomic<long long>* fdone = force_done_.get();
+  for (int q = 0; q < per_phase; ++q) fdone[q].store(0, std::memory_order_relaxed);
+  double* kd2 = kick_d2_.data();
+  struct alignas(64) Slot {
+    double d2 = 0;
+  };
+  Slot slot[kMaxTeam];
+  double idisp = 0;
+  const bool was_drifted = drifted_;
+  const bool full_check0 = full_history_check_;
+  double max_ov = max_overlap_;
+  // the list check before step s from the largest displacement md2 (squared) since the build
+  auto rebuild_due = [&](double md2, long long s) {
+    const double md = std::sqrt(md2) + build_round_ + growth_since_build_;
+    // right after a build the lists are fresh whatever the bound says (see run_segment)
+    const bool fresh = was_drifted && s == 0;
+    return !fresh && (2.0 * md > skin_ || idisp + md > skin_);
+  };
+#pragma omp parallel num_threads(team) reduction(max : max_ov)
+  {
+    const int t = omp_get_thread_num();
+    double d2 = 0;
+    if (!was_drifted) {
+      for (int c; (c = init_next.fetch_add(1, std::memory_order_relaxed)) < per_phase;) {
+        if (c == 0) {
+          idisp = drift_intruder();
+        } else {
+          const int lo = (c - 1) * rows_per_chunk;
+          d2 = std::max(d2, drift_rows(lo, std::min(ng, lo + rows_per_chunk)));
+        }
+      }
+    }
+    slot[t].d2 = d2;
+    barrier.wait([] {});
+    if (t == 0) {
+      double md2 = 0;
+      for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
+      if (rebuild_due(md2, 0)) stop_step.store(0, std::memory_order_relaxed);
+      decided.store(0, std::memory_order_release);
+    }
+    for (;;) {
+      const long long g = next.fetch_add(1, std::memory_order_relaxed);
+      const long long s = g / per_step;
+      const int idx = static_cast<int>(g % per_step);
+      if (s >= m) break;
+      if (idx < per_phase) {
+        // pair forces of step s
+        wait_until([&] { return decided.load(std::memory_order_acquire) >= s; });
+        if (s >= stop_step.load(std::memory_order_relaxed)) break;
+        if (idx == 0) {
+          intruder_forces(dt, max_ov);
+        } else {
+          chunk_forces(idx - 1, dt, max_ov, s == 0 && full_check0);
+        }
+        fdone[idx].store(s + 1, std::memory_order_release);
+      } else {
+        // kicks of step s
+        const int c = idx - per_phase;
+        const bool last = s == m - 1;
+        wait_until([&] { return fdone[0].load(std::memory_order_acquire) > s; });
+        if (c == 0) {
+          time_ += dt;
+          ++steps_;
+          if (!last) idisp = drift_intruder();
+        } else {
+          for (int q = kick_dep_[c - 1]; q <= c - 1; ++q) {
+            wait_until([&] { return fdone[q + 1].load(std::memory_order_acquire) > s; });
+          }
+          const int lo = (c - 1) * rows_per_chunk;
+          kd2[c] = finish_rows(lo, std::min(ng, lo + rows_per_chunk),
+                               last ? Kick::sync : Kick::drift);
+        }
+        // the thread that completes the step takes the list check for the next one
+        if (kicks_done.fetch_add(1, std::memory_order_acq_rel) == (s + 1) * per_phase - 1 &&
+            !last) {
+          double md2 = 0;
+          for (int q = 1; q <= nchunks; ++q) md2 = std::max(md2, kd2[q]);
+          if (rebuild_due(md2, s + 1)) stop_step.store(s + 1, std::memory_order_relaxed);
+          decided.store(s + 1, std::memory_order_release);
+        }
+      }
+    }
+  }
+  const long long completed = std::min(m, stop_step.load());
+  if (completed > 0) full_history_check_ = false;
+  max_overlap_ = max_ov;
+  drifted_ = completed < m;
+  return completed;
+}
+
 void DemSystem::advance(long long n) {
   prepare();
   long long done = 0;
   while (done < n) {
-    done += run_segment(n - done);
+    done += team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
     if (drifted_) build_lists();
   }
 }
