@@ -1,8 +1,9 @@
-// The contact law on a batch of independent contacts, structure of arrays: the same
-// operations as contact_force() (contact_law.h) contact by contact, eight contacts per
-// AVX-512 instruction where the CPU has it (Kumar's law; Guillard's and CPUs without AVX-512
-// run contact_force() lane by lane). The bits are those of contact_force(): IEEE add, mul,
-// div and sqrt lane by lane in the same order, branches as masks, no fused multiply-add.
+// The contact law on a batch of independent contacts, structure of arrays. The law itself is
+// written once, as contact_lanes() in contact_law.h: here it runs on eight contacts per
+// AVX-512 instruction where the CPU has it (Kumar's law; the lane type is in
+// contact_law_avx512.cc), and as contact_force() lane by lane otherwise (Guillard's law, other
+// CPUs). The bits are those of contact_force(): the same IEEE operations lane by lane in the
+// same order, branches as masks, no fused multiply-add.
 #pragma once
 
 #include <cstddef>
