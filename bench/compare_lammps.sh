@@ -6,9 +6,13 @@
 #
 #   bench/compare_lammps.sh [build dir (build-dem)] [beds ("dense dilute jammed")] [threads ("1 2")]
 #
-# Environment: STEPS (LAMMPS timed steps, default 2000), REPS (repetitions of every run,
-# default 1; medians are printed), WORK (data files, default /tmp/grainlift_lammps).
-# grainlift: bench/dem_throughput (100-step iterations, >= 3 s, after 500 warm-up steps),
+# Environment: STEPS (timed steps, default 2000), REPS (repetitions of every run,
+# default 1; medians are printed), WORK (data files, default /tmp/grainlift_lammps),
+# SAME_STEPS (default 1: grainlift times the same STEPS steps after the same 500 warm-up
+# steps as LAMMPS, GRAINLIFT_BENCH_STEPS; 0: grainlift runs its 100-step iterations for at
+# least 3 s, i.e. tens of thousands of steps, in which the intruder ploughs on and the dense
+# bed gathers several times more contacts than in LAMMPS's 2000 steps).
+# grainlift: bench/dem_throughput (100-step iterations after 500 warm-up steps),
 # "real_time" and "cpu_time" (process CPU time, all threads). LAMMPS (Debian package lammps,
 # `lmp`; Open MPI for two ranks, bound to cores): bench/lammps/bed.in on the same bed
 # (exported by dem_export_lammps_bed), "Loop time" of the timed run and its "% CPU use"
@@ -22,13 +26,14 @@ REPS=${REPS:-1}
 WORK=${WORK:-/tmp/grainlift_lammps}
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$WORK"
+if [[ ${SAME_STEPS:-1} == 1 ]]; then export GRAINLIFT_BENCH_STEPS=$STEPS; else unset GRAINLIFT_BENCH_STEPS; fi
 
 declare -A BM=([dense]=BM_DenseBed [dilute]=BM_DiluteBed [jammed]=BM_JammedBed)
 declare -A PHI=([dense]=0.82 [dilute]=0.35 [jammed]=0.86)
 
 median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
 
-echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  build: $BUILD"
+echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  build: $BUILD  grainlift timed steps: ${GRAINLIFT_BENCH_STEPS:->= 3 s}"
 echo "# M grain-steps/s: wall = per second of wall time, cpu = per CPU-second"
 printf '%-7s %3s | %9s %9s | %9s %9s | %10s %10s\n' bed thr "gl wall" "gl cpu" "lmp wall" "lmp cpu" "ratio wall" "ratio cpu"
 for bed in $BEDS; do

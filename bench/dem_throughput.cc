@@ -6,9 +6,12 @@
 // $GRAINLIFT_BENCH_CACHE (default: /tmp/grainlift_bench_cache).
 //
 //   ./build-dem/bin/dem_throughput --benchmark_counters_tabular=true
+//   GRAINLIFT_BENCH_STEPS=2000 ./build-dem/bin/dem_throughput   # exactly 2000 timed steps
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 
@@ -87,8 +90,29 @@ void BM_JammedBed(benchmark::State& state) { run_bed(state, 0.86); }
 
 }  // namespace
 
-BENCHMARK(BM_DenseBed)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(3.0);
-BENCHMARK(BM_DiluteBed)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(3.0);
-BENCHMARK(BM_JammedBed)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(3.0);
-
-BENCHMARK_MAIN();
+// GRAINLIFT_BENCH_STEPS=n times exactly n steps after the warm-up (n / 100 iterations; the
+// LAMMPS comparison sets it to LAMMPS's timed steps, so that both codes time the same steps of
+// the same bed); unset, each benchmark runs for at least 3 s (the intruder then ploughs
+// further and the dense bed gathers more contacts the faster the code is).
+int main(int argc, char** argv) {
+  const char* steps = std::getenv("GRAINLIFT_BENCH_STEPS");
+  const long iterations = steps ? std::max(1L, std::atol(steps) / 100) : 0;
+  struct {
+    const char* name;
+    void (*fn)(benchmark::State&);
+  } beds[] = {{"BM_DenseBed", BM_DenseBed}, {"BM_DiluteBed", BM_DiluteBed}, {"BM_JammedBed", BM_JammedBed}};
+  for (const auto& b : beds) {
+    auto* r = benchmark::RegisterBenchmark(b.name, b.fn);
+    r->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+    if (iterations > 0) {
+      r->Iterations(iterations);
+    } else {
+      r->MinTime(3.0);
+    }
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

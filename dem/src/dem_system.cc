@@ -11,10 +11,12 @@
 // Without velocity-dependent forces this is plain velocity Verlet (symplectic).
 //
 // How it runs (advance(n); step() is advance(1)): one OpenMP parallel region per n steps, or
-// per list rebuild, with two barriers per step. Work is handed out in chunks of kChunkRows
-// grains (item 0: the intruder) from a shared counter; which thread takes which chunk does
-// not change a bit of the results (every per-grain sum is taken in pair order, see
-// chunk_forces and finish_impl). Inside advance(), stage 3 of one step and stage 1 of the
+// per list rebuild. Work is handed out in chunks of kChunkRows grains (item 0: the intruder)
+// from a shared counter; which thread takes which chunk does not change a bit of the results
+// (every per-grain sum is taken in pair order, see chunk_forces and finish_impl). One thread
+// runs run_segment (two phases per step); a team runs run_segment_team, where the items of
+// all steps form one sequence and wait only for the items they depend on (no team barrier
+// inside a segment). Inside advance(), stage 3 of one step and stage 1 of the
 // next are one pass over the particle arrays (finish_impl<.., Kick::drift>); the last step
 // of a call ends with stage 3 alone, so the state between calls is that of single steps.
 #include "grainlift/dem/dem_system.h"
@@ -26,8 +28,14 @@
 #include <cstring>
 
 #include <omp.h>
+#include <sched.h>
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
+#include "grainlift/dem/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
+#include "step_kernels.h"
 #include "team_barrier.h"
 
 namespace grainlift::dem {
@@ -230,20 +238,39 @@ void DemSystem::build_lists() {
   for (int c = 0; c < nc_rows; ++c) {
     const int lo = c * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
     const auto np = static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]);
-    touch_[c].reserve(np);
-    touch_prev_[c].reserve(np);
+    // room for every pair of the chunk (the screening loop writes before it counts)
+    touch_[c].k.resize(np + 1);
+    touch_prev_[c].k.resize(np + 1);
+    touch_[c].n = touch_prev_[c].n = 0;
   }
+  // per chunk: the first chunk owning a pair with a partner in it (the pair loops that read
+  // or add to its grains are those of chunks [kick_dep_[c], c]), for the threaded step
+  kick_dep_.resize(static_cast<std::size_t>(nc_rows));
+  for (int c = 0; c < nc_rows; ++c) kick_dep_[c] = c;
+  for (std::size_t k = 0; k < nl_.pairs(); ++k) {
+    const int j = nl_.partner[k];
+    if (j >= n_grains_) continue;
+    int& dep = kick_dep_[j / kChunkRows];
+    dep = std::min(dep, nl_.owner[k] / kChunkRows);
+  }
+  if (static_cast<int>(force_done_size_) < nc_rows + 1) {
+    force_done_.reset(new std::atomic<long long>[static_cast<std::size_t>(nc_rows) + 1]);
+    force_done_size_ = static_cast<std::size_t>(nc_rows) + 1;
+  }
+  kick_d2_.resize(static_cast<std::size_t>(nc_rows) + 1);
   full_history_check_ = true;  // pair indices changed; histories were carried over
   {
     const std::size_t np = nl_.pairs();
     pair_reff_.resize(np);
     pair_meff_.resize(np);
+    pair_rs2_.resize(np);
     const double* r = p_.r.data();
     const double* inv_m = p_.inv_m.data();
     for (std::size_t k = 0; k < np; ++k) {
       const int i = nl_.owner[k], j = nl_.partner[k];
       const double ri = r[i], rj = r[j];
       const double rs = ri + rj;
+      pair_rs2_[k] = rs * rs;  // as the scalar screen: (r_i + r_j)^2
       pair_reff_[k] = ri * rj / rs;
       pair_meff_[k] = 1.0 / (inv_m[i] + inv_m[j]);
     }
@@ -253,7 +280,7 @@ void DemSystem::build_lists() {
   ++builds_;
 }
 
-void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
+void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
   const double h = 0.5 * spring_dt;  // predicted v(t+dt) = v(t+dt/2) + h a(t)
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
@@ -288,19 +315,16 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   std::uint8_t* touched = touched_.data();
   const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
-  std::vector<std::int64_t>& touching = touch_[chunk];
-  std::vector<std::int64_t>& before = touch_prev_[chunk];
-  touching.swap(before);
-  touching.clear();
+  std::swap(touch_[chunk], touch_prev_[chunk]);
+  const TouchList& before_list = touch_prev_[chunk];
+  TouchList& touch_list = touch_[chunk];
   // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
   // a relaxed bed are apart); no stores but the list of touching pairs.
-  for (std::int64_t k = k0; k < k1; ++k) {
-    const int i = owner[k], j = partner[k];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    box.min_image(dx, dy);
-    const double rs = r[i] + r[j];
-    if (dx * dx + dy * dy < rs * rs) touching.push_back(k);
-  }
+  touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r,
+                                      radii_scaled_ ? nullptr : pair_rs2_.data(), n_total_,
+                                      k0, k1, touch_list.k.data());
+  const std::int64_t* touching = touch_list.k.data();
+  const std::size_t n_touching = touch_list.n;
   // A pair that is apart forgets its history (and its stored force). Only pairs that touched
   // at the step before can hold any: those that no longer touch are found by a merge of the
   // two sorted lists; after a list build every pair is checked.
@@ -308,10 +332,10 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
     if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
     if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
   };
-  if (full_history_check_) {
+  if (full_check) {
     std::size_t a = 0;
     for (std::int64_t k = k0; k < k1; ++k) {
-      if (a < touching.size() && touching[a] == k) {
+      if (a < n_touching && touching[a] == k) {
         ++a;
         continue;
       }
@@ -319,9 +343,10 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
     }
   } else {
     std::size_t a = 0;
-    for (const std::int64_t k : before) {
-      while (a < touching.size() && touching[a] < k) ++a;
-      if (a < touching.size() && touching[a] == k) continue;
+    for (std::size_t b = 0; b < before_list.n; ++b) {
+      const std::int64_t k = before_list.k[b];
+      while (a < n_touching && touching[a] < k) ++a;
+      if (a < n_touching && touching[a] == k) continue;
       forget(k);
     }
   }
@@ -335,13 +360,14 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
   const bool pair_consts = !radii_scaled_;
   const double* reff = pair_reff_.data();
   const double* meff = pair_meff_.data();
-  ContactKinematics kin[kBatch];
-  ContactForce f[kBatch];
-  double bsx[kBatch], bsy[kBatch];
-  const std::size_t nt = touching.size();
+  // the batch in structure-of-arrays form (contact_law_batch.h); value-initialised: lanes
+  // past a short batch hold finite numbers
+  ContactBatch cb{};
+  static_assert(kBatch == ContactBatch::kLanes);
+  const std::size_t nt = n_touching;
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
-    const std::int64_t* kb = touching.data() + b0;
+    const std::int64_t* kb = touching + b0;
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
@@ -351,53 +377,54 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       const double rs = ri + rj;
       const double dist = std::sqrt(dx * dx + dy * dy);
       const double inv_dist = 1.0 / dist;
-      ContactKinematics& kn = kin[b];
-      kn.nx = dx * inv_dist;
-      kn.ny = dy * inv_dist;
-      kn.delta = rs - dist;
+      const double nx = dx * inv_dist, ny = dy * inv_dist;
+      cb.nx[b] = nx;
+      cb.ny[b] = ny;
+      cb.delta[b] = rs - dist;
       if (pair_consts) {
-        kn.r_eff = reff[k];
-        kn.m_eff = meff[k];
+        cb.r_eff[b] = reff[k];
+        cb.m_eff[b] = meff[k];
       } else {
-        kn.r_eff = ri * rj / rs;
-        kn.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+        cb.r_eff[b] = ri * rj / rs;
+        cb.m_eff[b] = 1.0 / (inv_m[i] + inv_m[j]);
       }
-      kn.mu = mu;
-      const double tx = -kn.ny, ty = kn.nx;
+      const double tx = -ny, ty = nx;
       // predicted relative velocity of the contact point at t+dt
       const double wp = (w[i] + h * al[i]) * ri + (w[j] + h * al[j]) * rj;
       const double vrx = (vx[i] + h * ax[i]) - (vx[j] + h * ax[j]) - wp * tx;
       const double vry = (vy[i] + h * ay[i]) - (vy[j] + h * ay[j]) - wp * ty;
-      kn.vn = vrx * kn.nx + vry * kn.ny;
-      kn.vtx = vrx - kn.vn * kn.nx;
-      kn.vty = vry - kn.vn * kn.ny;
+      const double vn = vrx * nx + vry * ny;
+      cb.vn[b] = vn;
+      cb.vtx[b] = vrx - vn * nx;
+      cb.vty[b] = vry - vn * ny;
       // displacement of the contact point over the step (half-step velocities)
       const double wh = w[i] * ri + w[j] * rj;
-      kn.dsx = spring_dt * (vx[i] - vx[j] - wh * tx);
-      kn.dsy = spring_dt * (vy[i] - vy[j] - wh * ty);
-      bsx[b] = sx[k];
-      bsy[b] = sy[k];
+      cb.dsx[b] = spring_dt * (vx[i] - vx[j] - wh * tx);
+      cb.dsy[b] = spring_dt * (vy[i] - vy[j] - wh * ty);
+      cb.sx[b] = sx[k];
+      cb.sy[b] = sy[k];
     }
-    for (std::size_t b = 0; b < nb; ++b) contact_force(law, kin[b], bsx[b], bsy[b], f[b]);
+    contact_force_batch(law, mu, cb, nb);
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
-      sx[k] = bsx[b];
-      sy[k] = bsy[b];
-      const double qk = kin[b].nx * f[b].fty - kin[b].ny * f[b].ftx;
+      sx[k] = cb.sx[b];
+      sy[k] = cb.sy[b];
+      const double fxb = cb.fx[b], fyb = cb.fy[b];
+      const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
       if (store) {
-        pfx[k] = f[b].fx;
-        pfy[k] = f[b].fy;
+        pfx[k] = fxb;
+        pfy[k] = fyb;
         pq[k] = qk;
       }
       if (scatter) {
-        sfx[i] += f[b].fx;
-        sfy[i] += f[b].fy;
+        sfx[i] += fxb;
+        sfy[i] += fyb;
         sq[i] += qk;
         touched[i] = 1;
         if (j < ng) {
-          sfx[j] -= f[b].fx;
-          sfy[j] -= f[b].fy;
+          sfx[j] -= fxb;
+          sfy[j] -= fyb;
           sq[j] += qk;
           touched[j] = 1;
         }
@@ -409,8 +436,8 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov) {
       // largest overlap fraction: the division only where it can raise the maximum (the
       // pre-test has a margin far above the rounding of either side)
       const double dmin = 2.0 * std::min(r[i], r[j]);
-      if (kin[b].delta > max_ov * dmin * (1.0 - 1e-12)) {
-        const double ov = kin[b].delta / dmin;
+      if (cb.delta[b] > max_ov * dmin * (1.0 - 1e-12)) {
+        const double ov = cb.delta[b] / dmin;
         if (ov > max_ov) max_ov = ov;
       }
     }
@@ -528,7 +555,23 @@ double DemSystem::finish_impl(int lo, int hi) {
   // are positive and finite, checked by set_bodies).
   const double ax0 = 0.0 + gx, ay0 = 0.0 + gy, al0 = -0.0;
   double maxd2 = 0;
-  for (int i = lo; i < hi; ++i) {
+  // Runs of eight grains without any force by the vector loop (the same operations), the
+  // others one by one, a group of eight at a time.
+  const bool simd = kMode != Kick::first && detail::avx512_enabled();
+  detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
+                          dt,    h,     damp,   ax0,    ay0,   al0, kScatter, sfx,       sfy,
+                          sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
+                          kCandidate, kAccelSet, box};
+  for (int i = lo; i < hi;) {
+    if (simd) {
+      const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);
+      if (stop != i) {
+        i = stop;
+        continue;
+      }
+    }
+    const int group_end = simd ? std::min(hi, i + 8) : hi;
+    for (; i < group_end; ++i) {
     double axn, ayn, aln;
     const std::uint8_t fl = flags[i];
     if (!touched[i] && !(fl & kCandidate)) {
@@ -606,6 +649,7 @@ double DemSystem::finish_impl(int lo, int hi) {
     if (bits(vx[i]) != bits(vxi)) vx[i] = vxi;
     if (bits(vy[i]) != bits(vyi)) vy[i] = vyi;
     if (bits(w[i]) != bits(wi)) w[i] = wi;
+    }
   }
   return maxd2;
 }
@@ -660,7 +704,7 @@ void DemSystem::prepare() {
   build_lists();
   double max_ov = max_overlap_;
   intruder_forces(0.0, max_ov);
-  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov);
+  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_);
   full_history_check_ = false;
   max_overlap_ = max_ov;
   finish_rows(0, n_grains_, Kick::first);
@@ -748,7 +792,7 @@ long long DemSystem::run_segment(long long m) {
         if (c == 0) {
           intruder_forces(dt, max_ov);
         } else {
-          chunk_forces(c - 1, dt, max_ov);
+          chunk_forces(c - 1, dt, max_ov, full_history_check_);
         }
       }
       barrier.wait(reset);
@@ -780,11 +824,142 @@ long long DemSystem::run_segment(long long m) {
   return completed;
 }
 
+namespace {
+/// Spin (then yield) until ready() holds.
+template <class Ready>
+inline void wait_until(Ready ready) {
+  for (int n = 0; !ready(); ++n) {
+    if (n < 2000) {
+#if defined(__x86_64__) || defined(__i386__)
+      _mm_pause();
+#endif
+    } else {
+      sched_yield();
+    }
+  }
+}
+}  // namespace
+
+// The threaded step without a team barrier inside the segment. Work items, one sequence for all
+// steps, handed out from one counter: per step, the pair forces (item 0: the intruder's
+// contacts, 1 + c: the pairs owned by chunk c), then the kicks (item 0: the intruder's motion
+// and the clock, 1 + c: the grains of chunk c). A force item of step s waits until every kick
+// item of step s - 1 is done and the list check for step s is taken (by the thread that
+// completed the last of them, from the per-item displacements); a kick item of chunk c waits
+// only for the force items that read or add to its grains (chunks kick_dep_[c] to c, and the
+// intruder). A thread that is descheduled holds up the others only through the items it holds,
+// not by having to arrive at a barrier. The operations, and so the bits, are those of
+// run_segment (every per-grain sum is taken in pair order at the kick, whoever computed the
+// pair forces).
+long long DemSystem::run_segment_team(long long m) {
+  const int team = team_;
+  const int nchunks = chunks();
+  const int per_phase = nchunks + 1;
+  const long long per_step = 2LL * per_phase;
+  const double dt = opt_.dt;
+  const int ng = n_grains_;
+  const int rows_per_chunk = kChunkRows;
+  detail::TeamBarrier barrier(team);
+  std::atomic<int> init_next{0};
+  std::atomic<long long> next{0};
+  std::atomic<long long> kicks_done{0};  // kick items completed in this segment
+  std::atomic<long long> decided{-1};    // list check taken for steps <= decided
+  std::atomic<long long> stop_step{m};   // first step not to run (a rebuild is due)
+  std::atomic<long long>* fdone = force_done_.get();
+  for (int q = 0; q < per_phase; ++q) fdone[q].store(0, std::memory_order_relaxed);
+  double* kd2 = kick_d2_.data();
+  struct alignas(64) Slot {
+    double d2 = 0;
+  };
+  Slot slot[kMaxTeam];
+  double idisp = 0;
+  const bool was_drifted = drifted_;
+  const bool full_check0 = full_history_check_;
+  double max_ov = max_overlap_;
+  // the list check before step s from the largest displacement md2 (squared) since the build
+  auto rebuild_due = [&](double md2, long long s) {
+    const double md = std::sqrt(md2) + build_round_ + growth_since_build_;
+    // right after a build the lists are fresh whatever the bound says (see run_segment)
+    const bool fresh = was_drifted && s == 0;
+    return !fresh && (2.0 * md > skin_ || idisp + md > skin_);
+  };
+#pragma omp parallel num_threads(team) reduction(max : max_ov)
+  {
+    const int t = omp_get_thread_num();
+    double d2 = 0;
+    if (!was_drifted) {
+      for (int c; (c = init_next.fetch_add(1, std::memory_order_relaxed)) < per_phase;) {
+        if (c == 0) {
+          idisp = drift_intruder();
+        } else {
+          const int lo = (c - 1) * rows_per_chunk;
+          d2 = std::max(d2, drift_rows(lo, std::min(ng, lo + rows_per_chunk)));
+        }
+      }
+    }
+    slot[t].d2 = d2;
+    barrier.wait([] {});
+    if (t == 0) {
+      double md2 = 0;
+      for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
+      if (rebuild_due(md2, 0)) stop_step.store(0, std::memory_order_relaxed);
+      decided.store(0, std::memory_order_release);
+    }
+    for (;;) {
+      const long long g = next.fetch_add(1, std::memory_order_relaxed);
+      const long long s = g / per_step;
+      const int idx = static_cast<int>(g % per_step);
+      if (s >= m) break;
+      if (idx < per_phase) {
+        // pair forces of step s
+        wait_until([&] { return decided.load(std::memory_order_acquire) >= s; });
+        if (s >= stop_step.load(std::memory_order_relaxed)) break;
+        if (idx == 0) {
+          intruder_forces(dt, max_ov);
+        } else {
+          chunk_forces(idx - 1, dt, max_ov, s == 0 && full_check0);
+        }
+        fdone[idx].store(s + 1, std::memory_order_release);
+      } else {
+        // kicks of step s
+        const int c = idx - per_phase;
+        const bool last = s == m - 1;
+        wait_until([&] { return fdone[0].load(std::memory_order_acquire) > s; });
+        if (c == 0) {
+          time_ += dt;
+          ++steps_;
+          if (!last) idisp = drift_intruder();
+        } else {
+          for (int q = kick_dep_[c - 1]; q <= c - 1; ++q) {
+            wait_until([&] { return fdone[q + 1].load(std::memory_order_acquire) > s; });
+          }
+          const int lo = (c - 1) * rows_per_chunk;
+          kd2[c] = finish_rows(lo, std::min(ng, lo + rows_per_chunk),
+                               last ? Kick::sync : Kick::drift);
+        }
+        // the thread that completes the step takes the list check for the next one
+        if (kicks_done.fetch_add(1, std::memory_order_acq_rel) == (s + 1) * per_phase - 1 &&
+            !last) {
+          double md2 = 0;
+          for (int q = 1; q <= nchunks; ++q) md2 = std::max(md2, kd2[q]);
+          if (rebuild_due(md2, s + 1)) stop_step.store(s + 1, std::memory_order_relaxed);
+          decided.store(s + 1, std::memory_order_release);
+        }
+      }
+    }
+  }
+  const long long completed = std::min(m, stop_step.load());
+  if (completed > 0) full_history_check_ = false;
+  max_overlap_ = max_ov;
+  drifted_ = completed < m;
+  return completed;
+}
+
 void DemSystem::advance(long long n) {
   prepare();
   long long done = 0;
   while (done < n) {
-    done += run_segment(n - done);
+    done += team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
     if (drifted_) build_lists();
   }
 }

@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 
 #include "grainlift/dem/contact_law.h"
+#include "grainlift/dem/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
 
 namespace gd = grainlift::dem;
@@ -132,4 +136,77 @@ TEST(ContactLaw, RefusesBadParameters) {
   g.law = gd::ContactLaw::guillard2014;
   g.restitution = 1.5;
   EXPECT_THROW(gd::LawCoefficients::from(g), gd::ConfigError);
+}
+
+// The batched law (contact_law_batch.h; AVX-512 where the CPU has it) gives the bits of
+// contact_force() contact by contact: random contacts that stick and slip, springs of zero
+// length, a law without tangential spring (kt = 0: the slip truncation sets s = 0), both laws,
+// full and short batches.
+TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
+  std::uint64_t state = 12345;
+  auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  long slipping = 0, sticking = 0;
+  for (int variant = 0; variant < 3; ++variant) {
+    gd::ContactParams p;
+    if (variant == 1) p.kt = 0;
+    if (variant == 2) p.law = gd::ContactLaw::guillard2014;
+    const auto c = gd::LawCoefficients::from(p);
+    for (std::size_t n : {std::size_t{32}, std::size_t{13}, std::size_t{1}}) {
+      for (int rep = 0; rep < 200; ++rep) {
+        gd::ContactBatch b{};
+        const double mu = rep % 3 == 0 ? 0.0 : uniform(0.05, 0.8);
+        for (std::size_t l = 0; l < n; ++l) {
+          const double a = uniform(0, 6.283185307179586);
+          b.nx[l] = std::cos(a);
+          b.ny[l] = std::sin(a);
+          b.delta[l] = uniform(1e-9, 1e-4);
+          b.r_eff[l] = uniform(0.004, 0.006);
+          b.m_eff[l] = uniform(1e-3, 5e-3);
+          b.vn[l] = uniform(-0.5, 0.5);
+          b.vtx[l] = uniform(-0.5, 0.5);
+          b.vty[l] = uniform(-0.5, 0.5);
+          b.dsx[l] = uniform(-1e-6, 1e-6);
+          b.dsy[l] = uniform(-1e-6, 1e-6);
+          const bool empty = (rep + l) % 4 == 0;  // a fresh contact: no spring yet
+          b.sx[l] = empty ? 0.0 : uniform(-1e-5, 1e-5);
+          b.sy[l] = empty ? 0.0 : uniform(-1e-5, 1e-5);
+        }
+        gd::ContactBatch ref = b;
+        gd::contact_force_batch(c, mu, b, n);
+        for (std::size_t l = 0; l < n; ++l) {
+          gd::ContactKinematics k;
+          k.nx = ref.nx[l];
+          k.ny = ref.ny[l];
+          k.delta = ref.delta[l];
+          k.r_eff = ref.r_eff[l];
+          k.m_eff = ref.m_eff[l];
+          k.vn = ref.vn[l];
+          k.vtx = ref.vtx[l];
+          k.vty = ref.vty[l];
+          k.dsx = ref.dsx[l];
+          k.dsy = ref.dsy[l];
+          k.mu = mu;
+          double sx = ref.sx[l], sy = ref.sy[l];
+          gd::ContactForce f;
+          gd::contact_force(c, k, sx, sy, f);
+          ASSERT_TRUE(same(b.fx[l], f.fx) && same(b.fy[l], f.fy) && same(b.ftx[l], f.ftx) &&
+                      same(b.fty[l], f.fty) && same(b.sx[l], sx) && same(b.sy[l], sy))
+              << "variant " << variant << " n " << n << " rep " << rep << " lane " << l
+              << " slipping " << f.slipping;
+          (f.slipping ? slipping : sticking) += 1;
+        }
+      }
+    }
+  }
+  EXPECT_GT(slipping, 1000);  // both branches of the Coulomb cut are exercised
+  EXPECT_GT(sticking, 1000);
+  std::printf("slipping %ld, sticking %ld\n", slipping, sticking);
+  std::printf("contact_force_batch vectorised for Kumar's law on this CPU: %s\n",
+              gd::contact_force_batch_vectorized(gd::LawCoefficients::from(gd::ContactParams{}))
+                  ? "yes"
+                  : "no");
 }

@@ -48,6 +48,82 @@ struct ContactForce {
   bool slipping = false;  ///< Coulomb limit reached: |F_t| = mu |F_n|
 };
 
+/// The lane operations the law needs, for one contact held in doubles. A vector of contacts
+/// (contact_law_batch.cc) provides the same names for its own lane type.
+namespace lane {
+inline double sqrt_of(double x) { return std::sqrt(x); }
+inline double abs_of(double x) { return std::fabs(x); }
+inline bool greater(double a, double b) { return a > b; }
+inline bool both(bool a, bool b) { return a && b; }
+inline bool any(bool m) { return m; }
+inline double select(bool m, double a, double b) { return m ? a : b; }
+}  // namespace lane
+
+/// Kumar 2019 eq. (1)-(2) prefactors: A_n = Kn r, B_n = m_eff gamma_n r, A_t = Kt r,
+/// B_t = m_eff gamma_t r with r = sqrt(R_eff delta).
+template <class T>
+inline void kumar_prefactors(const LawCoefficients& c, const T& r_eff, const T& delta,
+                             const T& m_eff, T& an, T& bn, T& at, T& bt) {
+  using lane::sqrt_of;
+  const T root = sqrt_of(r_eff * delta);
+  an = T(c.kn) * root;
+  bn = m_eff * T(c.gamma_n) * root;
+  at = T(c.kt) * root;
+  bt = m_eff * T(c.gamma_t) * root;
+}
+
+/// The law once, for any lane type T (a double, or a vector of independent contacts whose
+/// `if`s become lane masks): the spring (sx, sy) rotated into the contact plane and advanced,
+/// F_n = A_n delta - B_n v_n, F_t = -(A_t s + B_t v_t) limited to mu |F_n| with the spring
+/// truncated on slip. Every lane sees the same IEEE operations in the same order, so a vector
+/// lane gives the bits of the double.
+template <class T, class Mask>
+inline void contact_lanes(const T& nx, const T& ny, const T& delta, const T& vn, const T& vtx,
+                          const T& vty, const T& dsx, const T& dsy, const T& an, const T& bn,
+                          const T& at, const T& bt, const T& mu, T& sx, T& sy, T& fn, T& ftx,
+                          T& fty, Mask& slipping) {
+  using lane::abs_of;
+  using lane::any;
+  using lane::both;
+  using lane::greater;
+  using lane::select;
+  using lane::sqrt_of;
+  const T zero(0.0);
+  // Rotate the spring into the plane normal to n, keeping its length.
+  const T s_old2 = sx * sx + sy * sy;
+  const T sdotn = sx * nx + sy * ny;
+  sx = sx - sdotn * nx;
+  sy = sy - sdotn * ny;
+  const T s_new2 = sx * sx + sy * sy;
+  const Mask rotate = greater(s_new2, zero);
+  if (any(rotate)) {
+    const T scale = sqrt_of(s_old2 / s_new2);
+    sx = select(rotate, sx * scale, sx);
+    sy = select(rotate, sy * scale, sy);
+  }
+  // Add this step's tangential displacement (projected on the plane).
+  const T dsn = dsx * nx + dsy * ny;
+  sx = sx + (dsx - dsn * nx);
+  sy = sy + (dsy - dsn * ny);
+
+  fn = an * delta - bn * vn;
+  ftx = -(at * sx + bt * vtx);
+  fty = -(at * sy + bt * vty);
+  const T ft2 = ftx * ftx + fty * fty;
+  const T fmax = mu * abs_of(fn);
+  slipping = greater(ft2, fmax * fmax);
+  if (any(slipping)) {
+    const T scale = fmax / sqrt_of(ft2);
+    ftx = select(slipping, ftx * scale, ftx);
+    fty = select(slipping, fty * scale, fty);
+    // Truncate the spring so that it alone (with the damping) gives the Coulomb force;
+    // without a spring (A_t = 0) it is reset.
+    const Mask spring = both(slipping, greater(at, zero));
+    sx = select(spring, -(ftx + bt * vtx) / at, select(slipping, zero, sx));
+    sy = select(spring, -(fty + bt * vty) / at, select(slipping, zero, sy));
+  }
+}
+
 /// @brief Evaluate the contact force and advance the tangential spring (sx, sy) in place.
 ///
 /// Kumar 2019 eq. (1)-(2):
@@ -61,29 +137,9 @@ struct ContactForce {
 /// so that A_t s = -(F_t + B_t v_t) with |F_t| = mu |F_n|.
 inline void contact_force(const LawCoefficients& c, const ContactKinematics& k, double& sx,
                           double& sy, ContactForce& out) {
-  // Rotate the spring into the plane normal to n, keeping its length.
-  const double s_old2 = sx * sx + sy * sy;
-  const double sdotn = sx * k.nx + sy * k.ny;
-  sx -= sdotn * k.nx;
-  sy -= sdotn * k.ny;
-  const double s_new2 = sx * sx + sy * sy;
-  if (s_new2 > 0) {
-    const double scale = std::sqrt(s_old2 / s_new2);
-    sx *= scale;
-    sy *= scale;
-  }
-  // Add this step's tangential displacement (projected on the plane).
-  const double dsn = k.dsx * k.nx + k.dsy * k.ny;
-  sx += k.dsx - dsn * k.nx;
-  sy += k.dsy - dsn * k.ny;
-
   double an, bn, at, bt;
   if (c.law == ContactLaw::kumar2019) {
-    const double root = std::sqrt(k.r_eff * k.delta);  // Kumar eq. (1)-(2) prefactor
-    an = c.kn * root;
-    bn = k.m_eff * c.gamma_n * root;
-    at = c.kt * root;
-    bt = k.m_eff * c.gamma_t * root;
+    kumar_prefactors(c, k.r_eff, k.delta, k.m_eff, an, bn, at, bt);
   } else {
     const double sd = std::sqrt(k.delta);
     const double qd = std::sqrt(sd);  // delta^(1/4)
@@ -94,27 +150,10 @@ inline void contact_force(const LawCoefficients& c, const ContactKinematics& k, 
     bn = std::sqrt(5.0) * c.hertz_beta * std::sqrt(kns * k.m_eff) * qd;
     bt = std::sqrt(10.0 / 3.0) * c.hertz_beta * std::sqrt(kts * k.m_eff) * qd;
   }
-
-  const double fn = an * k.delta - bn * k.vn;
-  double ftx = -(at * sx + bt * k.vtx);
-  double fty = -(at * sy + bt * k.vty);
-  const double ft2 = ftx * ftx + fty * fty;
-  const double fmax = k.mu * std::fabs(fn);
-  bool slipping = false;
-  if (ft2 > fmax * fmax) {
-    slipping = true;
-    const double ft = std::sqrt(ft2);
-    const double scale = fmax / ft;
-    ftx *= scale;
-    fty *= scale;
-    // Truncate the spring so that it alone (with the damping) gives the Coulomb force.
-    if (at > 0) {
-      sx = -(ftx + bt * k.vtx) / at;
-      sy = -(fty + bt * k.vty) / at;
-    } else {
-      sx = sy = 0;
-    }
-  }
+  double fn, ftx, fty;
+  bool slipping;
+  contact_lanes(k.nx, k.ny, k.delta, k.vn, k.vtx, k.vty, k.dsx, k.dsy, an, bn, at, bt, k.mu, sx,
+                sy, fn, ftx, fty, slipping);
   out.fn = fn;
   out.ftx = ftx;
   out.fty = fty;

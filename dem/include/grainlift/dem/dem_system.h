@@ -4,7 +4,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "grainlift/dem/contact_law.h"
@@ -88,8 +90,8 @@ class DemSystem {
   void step() { advance(1); }
 
   /// @brief Advance by n time steps. The same results as n calls of step(), bit for bit, but
-  /// faster: one OpenMP parallel region per n steps (per list rebuild), two barriers per
-  /// step, and the second half kick of a step fused with the half kick and drift of the next
+  /// faster: one OpenMP parallel region per n steps (per list rebuild), no team barrier
+  /// inside it (work items wait for the items they depend on), and the second half kick of a step fused with the half kick and drift of the next
   /// (one pass over the particle arrays). The state is only observable between calls.
   void advance(long long n);
 
@@ -155,7 +157,7 @@ class DemSystem {
  private:
   void build_lists();
   /// Pair forces of the rows of one chunk (pass 1: distance checks, pass 2: contact law).
-  void chunk_forces(int chunk, double spring_dt, double& max_ov);
+  void chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check);
   /// The intruder's own contacts (serial, fixed order).
   void intruder_forces(double spring_dt, double& max_ov);
   enum class Kick { first, sync, drift };
@@ -172,6 +174,9 @@ class DemSystem {
   /// Runs up to m steps in one parallel region; stops early (state drifted) when the lists
   /// need a rebuild. Returns the steps completed.
   long long run_segment(long long m);
+  /// The same on a team of threads, without a barrier inside the segment (items with
+  /// per-chunk dependencies, see dem_system.cc).
+  long long run_segment_team(long long m);
   int chunks() const { return (n_grains_ + kChunkRows - 1) / kChunkRows; }
   static constexpr int kChunkRows = 1024;
 
@@ -188,14 +193,26 @@ class DemSystem {
   /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
   /// on one thread (in the same order as the gather of the threaded path: same bits).
   std::vector<double> fx_, fy_, tq_;
-  std::vector<std::vector<std::int64_t>> touch_;  ///< per chunk: touching pairs of the step
-  std::vector<std::vector<std::int64_t>> touch_prev_;  ///< per chunk: those of the step before
+  /// Touching pairs of one chunk: k[0, n) (k has room for every pair of the chunk + 1).
+  struct TouchList {
+    std::vector<std::int64_t> k;
+    std::size_t n = 0;
+  };
+  std::vector<TouchList> touch_;  ///< per chunk: touching pairs of the step
+  std::vector<TouchList> touch_prev_;  ///< per chunk: those of the step before
   /// The history (and stored force) of a listed pair is non-zero only if the pair touched at
   /// the step before (touch_prev_), except after a list build or a change of
   /// store_pair_forces_: then the next force pass checks every pair.
   bool full_history_check_ = true;
   /// per listed pair: r_i r_j / (r_i + r_j) and 1 / (1/m_i + 1/m_j), set at the build
   std::vector<double> pair_reff_, pair_meff_;
+  std::vector<double> pair_rs2_;  ///< per listed pair: (r_i + r_j)^2, set at the build
+  /// Threaded step: per chunk, the first chunk owning a pair with a partner in it; per force
+  /// item, the steps completed (run_segment_team); per kick item, its largest displacement.
+  std::vector<int> kick_dep_;
+  std::unique_ptr<std::atomic<long long>[]> force_done_;
+  std::size_t force_done_size_ = 0;
+  std::vector<double> kick_d2_;
   bool radii_scaled_ = false;  ///< a radius changed since the build: pair constants stale
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;

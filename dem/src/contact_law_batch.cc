@@ -1,0 +1,55 @@
+// contact_force() on a batch of contacts: the AVX-512 instantiation of the law where the CPU
+// has it (Kumar's law), contact_force() lane by lane otherwise.
+#include "grainlift/dem/contact_law_batch.h"
+
+#include <cstdlib>
+
+#include "step_kernels.h"
+
+#include "contact_law_avx512.h"
+
+namespace grainlift::dem {
+
+namespace {
+
+void scalar_lanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t lo,
+                  std::size_t n) {
+  for (std::size_t l = lo; l < n; ++l) {
+    ContactKinematics k;
+    k.nx = b.nx[l];
+    k.ny = b.ny[l];
+    k.delta = b.delta[l];
+    k.r_eff = b.r_eff[l];
+    k.m_eff = b.m_eff[l];
+    k.vn = b.vn[l];
+    k.vtx = b.vtx[l];
+    k.vty = b.vty[l];
+    k.dsx = b.dsx[l];
+    k.dsy = b.dsy[l];
+    k.mu = mu;
+    ContactForce f;
+    contact_force(c, k, b.sx[l], b.sy[l], f);
+    b.fx[l] = f.fx;
+    b.fy[l] = f.fy;
+    b.ftx[l] = f.ftx;
+    b.fty[l] = f.fty;
+  }
+}
+
+}  // namespace
+
+bool contact_force_batch_vectorized(const LawCoefficients& c) {
+  return c.law == ContactLaw::kumar2019 && detail::avx512_enabled();
+}
+
+void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {
+#ifdef GRAINLIFT_HAVE_AVX512_LAW
+  if (contact_force_batch_vectorized(c)) {
+    kumar_contacts_avx512(c, mu, b, n);
+    return;
+  }
+#endif
+  scalar_lanes(c, mu, b, 0, n);
+}
+
+}  // namespace grainlift::dem

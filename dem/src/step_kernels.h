@@ -1,0 +1,66 @@
+// Inner loops of the time step kept apart from DemSystem: the pair screen (pass 1 of the
+// pair loop) and the kick/drift of grains without any force (AVX-512 when the CPU has it).
+// Each vector loop does lane by lane the IEEE operations of the scalar code, in the same
+// order (this file is compiled without floating-point contraction): the same bits.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "grainlift/dem/periodic_box.h"
+
+namespace grainlift::dem::detail {
+
+/// @brief Write the indices k in [k0, k1) of the pairs (owner[k], partner[k]) that touch,
+/// |x_i - x_j| < r_i + r_j (minimum image), to out in increasing order; return their number.
+/// Branch-free: out needs room for k1 - k0 + 1 entries (it writes before it counts). With
+/// rs2 (per pair (r_i + r_j)^2, computed as here) and AVX-512, eight pairs at a time;
+/// n_total: particles in x and y.
+std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* r, const double* rs2,
+                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out);
+
+/// The arrays and constants of the kick (DemSystem::finish_impl).
+struct PlainKick {
+  double* x;
+  double* y;
+  double* vx;
+  double* vy;
+  double* w;
+  const float* xb;
+  const float* yb;
+  std::uint8_t* flags;    ///< per grain: candidate_bit, accel_bit
+  std::uint8_t* touched;  ///< per grain: 1 if a listed pair touches
+  double dt, h, damp;
+  double ax0, ay0, al0;  ///< the accelerations of a grain without force
+  // one thread (scatter): the pair-force sums per grain, and what the accelerations need
+  bool scatter;
+  double* sfx;
+  double* sfy;
+  double* sq;
+  const double* inv_m;
+  const double* inv_i;
+  const double* r;
+  double* ax;
+  double* ay;
+  double* al;
+  double gx, gy;
+  std::uint8_t candidate_bit, accel_bit;
+  PeriodicBox box;
+};
+
+/// @brief From row i on, in groups of eight, what DemSystem::finish_impl does: the second
+/// half kick (and with drift, the next half kick and drift) of grains without any force
+/// (flags and touched 0), and with scatter also of grains with pair forces (summed in sfx,
+/// sfy, sq) and their accelerations; stops at the first group with a grain it does not
+/// handle (a candidate of the intruder; any force without scatter), or fewer than eight
+/// rows before hi. Returns the row where it stopped (i itself when it did nothing or without
+/// AVX-512); max_d2 is raised to the largest squared displacement from (xb, yb) of the
+/// grains it moved (drift only).
+int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2);
+
+/// @brief Whether the vector loops run (kick_plain, contact_force_batch): the CPU has
+/// AVX-512F and the environment variable GRAINLIFT_NO_SIMD is not set (checked once).
+bool avx512_enabled();
+
+}  // namespace grainlift::dem::detail
