@@ -2,8 +2,13 @@
 // FlowProblem engine. Conventions: docs/continuum-model.md (theta from V, counter-clockwise).
 #include "grainlift/continuum/solver.h"
 
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/fe/fe_values_extractors.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria_description.h>
 #include <deal.II/grid/grid_refinement.h>
 #include <deal.II/numerics/error_estimator.h>
 #include <deal.II/numerics/solution_transfer.h>
@@ -13,6 +18,7 @@
 
 #include <chrono>
 #include <deque>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -113,6 +119,52 @@ void make_intruder_mesh(Triangulation<2>& tria, double R, double W, double H, in
   tria.execute_coarsening_and_refinement();
 }
 
+/// MappingQ's support points of a cell (the function is protected in MappingQ).
+class Q2SupportPoints : public MappingQ<2> {
+ public:
+  Q2SupportPoints() : MappingQ<2>(2) {}
+  std::vector<Point2> of(const Triangulation<2>::cell_iterator& cell) const {
+    return compute_mapping_support_points(cell);
+  }
+};
+
+/// The mesh a run solves on. One rank: the serial mesh of make_intruder_mesh. Several ranks:
+/// the same mesh, built and refined on every rank, partitioned (METIS) and turned into a
+/// parallel::fullydistributed::Triangulation (each rank keeps its cells and one layer of
+/// ghosts). The distributed mesh has no manifolds (the transfinite interpolation cannot be
+/// re-initialised on it, see docs/continuum-model.md); it needs none, since it is not refined
+/// further and the Q2 mapping takes its support points from the serial mesh, by cell id: both
+/// describe the same curved geometry to the last bit.
+struct Mesh {
+  Triangulation<2> serial;
+  std::unique_ptr<parallel::fullydistributed::Triangulation<2>> distributed;
+  std::map<CellId, std::vector<Point2>> support_points;
+  Triangulation<2>& tria() { return distributed ? *distributed : serial; }
+  internal::SupportPoints support_point_function() const {
+    if (!distributed) return {};
+    return [this](const CellId& id) { return support_points.at(id); };
+  }
+};
+
+void make_mesh(Mesh& m, double R, double W, double H, int refinement) {
+  make_intruder_mesh(m.serial, R, W, H, refinement);
+  const unsigned int ranks = static_cast<unsigned int>(MpiSession::size());  // 1 without MPI
+  if (ranks == 1) return;
+  const Q2SupportPoints q2;
+  for (const auto& cell : m.serial.cell_iterators()) m.support_points.emplace(cell->id(), q2.of(cell));
+  GridTools::partition_triangulation(ranks, m.serial);
+  const auto description =
+      TriangulationDescription::Utilities::create_description_from_triangulation(m.serial, MPI_COMM_WORLD);
+  m.distributed = std::make_unique<parallel::fullydistributed::Triangulation<2>>(MPI_COMM_WORLD);
+  m.distributed->create_triangulation(description);
+  m.distributed->set_all_manifold_ids(numbers::flat_manifold_id);
+  // the description carries the coarse vertices only: the distributed mesh made the finer
+  // ones by flat refinement. Put them where the serial mesh has them (the first support
+  // points of a cell are its vertices).
+  for (const auto& cell : m.distributed->cell_iterators())
+    for (const unsigned int v : cell->vertex_indices()) cell->vertex(v) = m.support_points.at(cell->id())[v];
+}
+
 }  // namespace
 
 void validate_config(const ContinuumConfig& c) {
@@ -163,11 +215,18 @@ void validate_config(const ContinuumConfig& c) {
 ContinuumOutput solve_flow(const ContinuumConfig& c,
                            const std::function<void(const std::string&)>& log) {
   validate_config(c);
-  // Each rank would run the whole serial problem and write the same files.
-  require(MpiSession::size() == 1,
-          "runs on one MPI process only (started as one of " + std::to_string(MpiSession::size()) +
-              " ranks): the distributed solve (parallel::distributed::Triangulation) is not "
-              "implemented yet; run without mpirun");
+  // what the distributed solve (more than one MPI rank) does not support yet; every rank
+  // throws, before anything is solved or written
+  const int ranks = MpiSession::size();
+  if (ranks > 1) {
+    const std::string started = " (started as one of " + std::to_string(ranks) + " MPI ranks)";
+    require(c.linear_solver == LinearSolver::amg,
+            "continuum.linear_solver = \"direct\" runs on one MPI process only" + started +
+                ": set continuum.linear_solver = \"amg\" or run without mpirun");
+    require(c.adaptive_cycles == 0,
+            "continuum.adaptive_cycles > 0 runs on one MPI process only" + started +
+                ": set continuum.adaptive_cycles = 0 or run without mpirun");
+  }
   const auto say = [&log](const std::string& s) { if (log) log(s); };
   ContinuumOutput out;
   try {
@@ -179,8 +238,9 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const double vref = std::max(speed, std::abs(omega) * R);
 
     // ---- mesh (see make_intruder_mesh)
-    Triangulation<internal::dim> tria;
-    make_intruder_mesh(tria, R, W, H, c.refinement);
+    Mesh mesh;
+    make_mesh(mesh, R, W, H, c.refinement);
+    Triangulation<internal::dim>& tria = mesh.tria();
 
     // ---- physics
     MuIRheology rheology(c.rheology);
@@ -192,6 +252,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       setup.log = log;
       setup.linear_solver = c.linear_solver;
       setup.schur_approximation = c.schur_approximation;
+      setup.mapping_support_points = mesh.support_point_function();
       if (g_used.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g_used); };
       // far field: Dirichlet u = -V where the flow enters or slides along the box, the
       // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
@@ -286,7 +347,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
              << " 1/s";
         }
         say(os.str());
-        const Vector<double> saved = problem.solution();
+        const internal::VectorType saved = problem.solution();
         problem.solve_nonlinear(nl);
         ++stage_number;
         if (!problem.report().converged && done_delta > 0 && splits < kMaxSplits) {
@@ -314,11 +375,11 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       const FEValuesExtractors::Vector velocity(0);
       KellyErrorEstimator<internal::dim>::estimate(
           problem.mapping(), problem.dof_handler(), QGauss<internal::dim - 1>(3), {},
-          problem.solution(), indicator,
+          problem.ghosted(problem.solution()), indicator,
           problem.dof_handler().get_fe().component_mask(velocity));
       GridRefinement::refine_and_coarsen_fixed_number(tria, indicator, 0.3, 0.0);
-      SolutionTransfer<internal::dim> transfer(problem.dof_handler());
-      const Vector<double> old_solution = problem.solution();
+      SolutionTransfer<internal::dim, internal::VectorType> transfer(problem.dof_handler());
+      const internal::VectorType old_solution = problem.solution();
       tria.prepare_coarsening_and_refinement();
       transfer.prepare_for_coarsening_and_refinement(old_solution);
       tria.execute_coarsening_and_refinement();
@@ -341,7 +402,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.continuation_splits = splits;
     // ---- linearised gravity: one Newton step from the base state of the problem with gravity
     std::unique_ptr<FlowProblem> corrected;
-    Vector<double> du;  // the first-order correction (linearised gravity)
+    internal::VectorType du;  // the first-order correction (linearised gravity)
     if (linearised) {
       say("continuum: first-order gravity correction (one linear solve at the base state)");
       const auto t0 = std::chrono::steady_clock::now();
@@ -349,7 +410,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       corrected->set_viscosity(&rheology);
       corrected->setup_system();
       corrected->solution() = problem.solution();
-      Vector<double> residual;
+      internal::VectorType residual;
       corrected->assemble_system(corrected->solution(), true, true, residual);
       corrected->solve(residual, du);
       std::ostringstream os;
@@ -370,7 +431,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.krylov_iterations = rep.krylov_iterations;
     out.initial_residual = rep.initial_residual;
     out.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
-    out.cells = static_cast<int>(tria.n_active_cells());
+    out.cells = static_cast<int>(tria.n_global_active_cells());
     out.dofs = static_cast<int>(problem.dof_handler().n_dofs());
 
     // ---- forces (consistent reaction on the hole; surface integral as a diagnostic) and the
@@ -403,7 +464,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       // First order throughout: the outputs are linear functionals of the residual, so they
       // are taken as S(u_0; g) + dS/du . du, the derivative by a central difference along du
       // (exact for the linear gravity terms; O(h^2) for the rheology, h = 1e-4).
-      const Vector<double> u0 = problem.solution();
+      const internal::VectorType u0 = problem.solution();
       constexpr double h = 1e-4;
       const auto at = [&](double t) {
         corrected->solution() = u0;
@@ -437,22 +498,31 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       const std::size_t n = static_cast<std::size_t>(c.fields.nx) * c.fields.ny;
       const double nan = std::numeric_limits<double>::quiet_NaN();
       for (auto* v : {&out.vx, &out.vy, &out.pressure, &out.sxx, &out.sxy, &out.syy}) v->assign(n, nan);
-      internal::PointState st;
+      // bin (i, j) has its lower-left corner at (x0 + i h, y0 + j h), as in the DEM; the
+      // fields are the point values at the bin centres (evaluated together: one reduction)
+      std::vector<Point2> points;
+      std::vector<std::size_t> where;
       for (int j = 0; j < c.fields.ny; ++j)
         for (int i = 0; i < c.fields.nx; ++i) {
-          // bin (i, j) has its lower-left corner at (x0 + i h, y0 + j h), as in the DEM; the
-          // fields are the point values at the bin centres
           const Point2 x(c.fields.x0 + (i + 0.5) * c.fields.spacing,
                          c.fields.y0 + (j + 0.5) * c.fields.spacing);
-          if (x.norm() < R || !post.point_state(x, st)) continue;
-          const std::size_t k = static_cast<std::size_t>(j) * c.fields.nx + i;
-          out.vx[k] = st.velocity[0];
-          out.vy[k] = st.velocity[1];
-          out.pressure[k] = st.pressure;
-          out.sxx[k] = st.stress[0][0];
-          out.sxy[k] = st.stress[0][1];
-          out.syy[k] = st.stress[1][1];
+          if (x.norm() < R) continue;
+          points.push_back(x);
+          where.push_back(static_cast<std::size_t>(j) * c.fields.nx + i);
         }
+      std::vector<char> found;
+      const auto states = post.point_states(points, found);
+      for (std::size_t m = 0; m < points.size(); ++m) {
+        if (!found[m]) continue;
+        const internal::PointState& st = states[m];
+        const std::size_t k = where[m];
+        out.vx[k] = st.velocity[0];
+        out.vy[k] = st.velocity[1];
+        out.pressure[k] = st.pressure;
+        out.sxx[k] = st.stress[0][0];
+        out.sxy[k] = st.stress[0][1];
+        out.syy[k] = st.stress[1][1];
+      }
     }
     if (!c.vtu_directory.empty()) post.output_results(c.vtu_directory, "continuum");
   } catch (const ConfigError&) {
