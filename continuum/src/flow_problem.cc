@@ -271,12 +271,7 @@ void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneou
 
 void FlowProblem::setup_system() {
   // manifold evaluations (transfinite interpolation) are costly: compute the Q2 mapping once
-  if (setup_.mapping_support_points)
-    mapping_.initialize(tria_, [this](const Triangulation<dim>::cell_iterator& cell) {
-      return setup_.mapping_support_points(cell->id());
-    });
-  else
-    mapping_.initialize(MappingQ<dim>(2), tria_);
+  mapping_.initialize(MappingQ<dim>(2), tria_);
   dof_handler_.distribute_dofs(fe_);
   const bool iterative = setup_.linear_solver == LinearSolver::amg;
   if (!iterative && n_ranks() > 1)
@@ -995,6 +990,9 @@ std::vector<PointState> FlowProblem::point_states(const std::vector<Point2>& poi
   std::vector<SymmetricTensor<2, dim>> sym(1);
   std::vector<double> p(1);
   std::vector<Vec2> u(1);
+  const auto before = [](const Point<dim>& a, const Point<dim>& b) {
+    return a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]);
+  };
   for (std::size_t k = 0; k < n; ++k) {
     std::pair<Triangulation<dim>::active_cell_iterator, Point<dim>> cp;
     try {
@@ -1004,13 +1002,13 @@ std::vector<PointState> FlowProblem::point_states(const std::vector<Point2>& poi
     }
     if (cp.first == tria_.end() || cp.first.state() != IteratorState::valid) continue;
     // A point on a cell edge lies in several cells, where the stress differs: take the one
-    // with the smallest cell id, whatever the partition (all of them are ours or ghosts when
-    // the point is in one of ours), and evaluate on the rank that owns it.
+    // whose centre comes first (x, then y), whatever the partition (all of them are ours or
+    // ghosts when the point is in one of ours), and evaluate on the rank that owns it.
     const auto& vertex_to_cells = cache_->get_vertex_to_cell_map();
     const auto first = cp.first;
     for (const unsigned int v : first->vertex_indices())
       for (const auto& c : vertex_to_cells[first->vertex_index(v)]) {
-        if (c->is_artificial() || !(c->id() < cp.first->id())) continue;
+        if (c->is_artificial() || !before(c->center(), cp.first->center())) continue;
         try {
           const Point<dim> xi = mapping_.transform_real_to_unit_cell(c, points[k]);
           if (GeometryInfo<dim>::is_inside_unit_cell(xi, 1e-10)) cp = {c, xi};

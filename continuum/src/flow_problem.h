@@ -19,7 +19,6 @@
 #include <deal.II/grid/grid_tools_cache.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/base/index_set.h>
-#include <deal.II/grid/cell_id.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
@@ -51,8 +50,6 @@ using ScalarField = std::function<double(const Point2&)>;
 /// entries only; evaluations use a ghosted copy, see FlowProblem::ghosted()).
 using VectorType = dealii::TrilinosWrappers::MPI::BlockVector;
 using MatrixType = dealii::TrilinosWrappers::BlockSparseMatrix;
-/// The Q2 mapping support points of a cell (dealii::MappingQ's order), see ProblemSetup.
-using SupportPoints = std::function<std::vector<Point2>(const dealii::CellId&)>;
 
 /// Regularised Coulomb wall: u.n = 0 strongly, tangential traction on the medium
 /// -mu_w p+ s / sqrt(s^2 + eps^2) along the tangent, s the slip (u - u_wall).t.
@@ -91,10 +88,6 @@ struct ProblemSetup {
   std::function<void(const std::string&)> log;
   LinearSolver linear_solver = LinearSolver::direct;
   SchurApproximation schur_approximation = SchurApproximation::diagonal_a;
-  /// Where the Q2 mapping takes its support points. Empty: from the mesh's manifolds. A
-  /// distributed mesh made from a serial one (solve_flow) has no manifolds and takes them from
-  /// the serial mesh, by cell id, so that both describe the same curved geometry.
-  SupportPoints mapping_support_points;
 };
 
 struct NonlinearReport {
@@ -187,9 +180,10 @@ class FlowProblem {
 
  private:
   /// Calls @p visit with face values at the boundary point of boundary @p id seen at
-  /// @p angle (rad) from @p centre: once, or twice when the angle falls on a vertex shared by
-  /// two faces. Returns the number of visits; throws when there is none (@p who names the
-  /// caller in the message).
+  /// @p angle (rad) from @p centre, on this rank's cells: once, or twice when the angle falls
+  /// on a vertex shared by two faces (possibly of two ranks). Returns the number of visits on
+  /// this rank (the callers sum over the ranks); throws on every rank when there is none on
+  /// any (@p who names the caller in the message). Collective.
   int visit_boundary_at_angle(dealii::types::boundary_id id, const Point2& centre, double angle,
                               dealii::UpdateFlags flags, const char* who,
                               const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;

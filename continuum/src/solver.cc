@@ -3,12 +3,9 @@
 #include "grainlift/continuum/solver.h"
 
 #include <deal.II/base/mpi.h>
-#include <deal.II/distributed/fully_distributed_tria.h>
+#include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_values_extractors.h>
-#include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_tools.h>
-#include <deal.II/grid/tria_description.h>
 #include <deal.II/grid/grid_refinement.h>
 #include <deal.II/numerics/error_estimator.h>
 #include <deal.II/numerics/solution_transfer.h>
@@ -69,101 +66,92 @@ std::vector<double> padding_steps(double b, double pad) {
 /// is merged into a tensor grid whose cells grow geometrically (ratio 1.4) away from the block.
 /// Boundary ids: 0 x = -W, 1 x = W, 2 y = -H, 3 y = H, 4 the hole. After @p refinement global
 /// refinements the block is refined once more (the mesh is finest at the intruder).
-void make_intruder_mesh(Triangulation<2>& tria, double R, double W, double H, int refinement) {
-  const double b = std::min(2 * R, 0.5 * (R + std::min(W, H)));
-  const auto steps_along = [b](double half) {
-    const std::vector<double> pad = padding_steps(b, half - b);
-    std::vector<double> steps(pad.rbegin(), pad.rend());
-    steps.push_back(b);
-    steps.push_back(b);
-    steps.insert(steps.end(), pad.begin(), pad.end());
-    return steps;
-  };
-  Triangulation<2> outer, outer_holed, block;
-  GridGenerator::subdivided_hyper_rectangle(outer, {steps_along(W), steps_along(H)},
-                                            Point2(-W, -H), Point2(W, H), false);
-  std::set<Triangulation<2>::active_cell_iterator> central;
-  for (const auto& cell : outer.active_cell_iterators())
-    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b) central.insert(cell);
-  GridGenerator::create_triangulation_with_removed_cells(outer, central, outer_holed);
-  GridGenerator::hyper_cube_with_cylindrical_hole(block, R, b, 1.0, 1, false);
-  GridGenerator::merge_triangulations(outer_holed, block, tria, 1e-9 * R);
-
-  tria.reset_all_manifolds();
-  tria.set_all_manifold_ids(numbers::flat_manifold_id);
-  const double tol = 1e-6 * R;
-  for (const auto& cell : tria.active_cell_iterators()) {
-    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b)
-      cell->set_all_manifold_ids(1);
-  }
-  for (const auto& cell : tria.active_cell_iterators())
-    for (const auto& face : cell->face_iterators()) {
-      if (!face->at_boundary()) continue;
-      const Point2 c = face->center();
-      if (std::abs(face->vertex(0).norm() - R) < tol && std::abs(face->vertex(1).norm() - R) < tol) {
-        face->set_boundary_id(kHole);
-        face->set_manifold_id(0);
-      } else if (std::abs(c[0] + W) < tol) face->set_boundary_id(kLeft);
-      else if (std::abs(c[0] - W) < tol) face->set_boundary_id(kRight);
-      else if (std::abs(c[1] + H) < tol) face->set_boundary_id(kBottom);
-      else face->set_boundary_id(kTop);
-    }
-  tria.set_manifold(0, PolarManifold<2>(Point2()));
-  TransfiniteInterpolationManifold<2> tfi;
-  tfi.initialize(tria);
-  tria.set_manifold(1, tfi);
-
-  tria.refine_global(refinement);
-  for (const auto& cell : tria.active_cell_iterators())
-    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b) cell->set_refine_flag();
-  tria.execute_coarsening_and_refinement();
-}
-
-/// MappingQ's support points of a cell (the function is protected in MappingQ).
-class Q2SupportPoints : public MappingQ<2> {
+///
+/// One MPI rank: a serial Triangulation. Several: a parallel::distributed::Triangulation (p4est)
+/// made from the vertices and cells of the same coarse mesh; the ids and the manifolds are then
+/// set on the distributed mesh itself, whose coarse mesh every rank holds whole, so the
+/// transfinite interpolation is initialised on exactly the serial coarse cells. (Copying the
+/// decorated serial mesh with copy_triangulation instead made TransfiniteInterpolationManifold::
+/// initialize() throw ExcTransformationFailed in an earlier attempt.) The refinement is the
+/// same on both; a rank flags only its own cells.
+class IntruderMesh {
  public:
-  Q2SupportPoints() : MappingQ<2>(2) {}
-  std::vector<Point2> of(const Triangulation<2>::cell_iterator& cell) const {
-    return compute_mapping_support_points(cell);
+  IntruderMesh(double R, double W, double H, int refinement) : R_(R), W_(W), H_(H) {
+    b_ = std::min(2 * R, 0.5 * (R + std::min(W, H)));
+    if (MpiSession::size() == 1) {  // (MPI may not even be initialised)
+      tria_ = std::make_unique<Triangulation<2>>();
+      make_coarse(*tria_);
+    } else {
+      Triangulation<2> coarse;
+      make_coarse(coarse);
+      std::vector<CellData<2>> cells(coarse.n_cells(0));
+      for (const auto& cell : coarse.cell_iterators_on_level(0))
+        for (const unsigned int v : cell->vertex_indices())
+          cells[cell->index()].vertices[v] = cell->vertex_index(v);
+      tria_ = std::make_unique<parallel::distributed::Triangulation<2>>(MPI_COMM_WORLD);
+      tria_->create_triangulation(coarse.get_vertices(), cells, SubCellData());
+    }
+    decorate(*tria_);
+    tria_->refine_global(refinement);
+    for (const auto& cell : tria_->active_cell_iterators())
+      if (cell->is_locally_owned() && in_block(cell->center())) cell->set_refine_flag();
+    tria_->execute_coarsening_and_refinement();
   }
-};
+  Triangulation<2>& tria() { return *tria_; }
 
-/// The mesh a run solves on. One rank: the serial mesh of make_intruder_mesh. Several ranks:
-/// the same mesh, built and refined on every rank, partitioned (METIS) and turned into a
-/// parallel::fullydistributed::Triangulation (each rank keeps its cells and one layer of
-/// ghosts). The distributed mesh has no manifolds (the transfinite interpolation cannot be
-/// re-initialised on it, see docs/continuum-model.md); it needs none, since it is not refined
-/// further and the Q2 mapping takes its support points from the serial mesh, by cell id: both
-/// describe the same curved geometry to the last bit.
-struct Mesh {
-  Triangulation<2> serial;
-  std::unique_ptr<parallel::fullydistributed::Triangulation<2>> distributed;
-  std::map<CellId, std::vector<Point2>> support_points;
-  Triangulation<2>& tria() { return distributed ? *distributed : serial; }
-  internal::SupportPoints support_point_function() const {
-    if (!distributed) return {};
-    return [this](const CellId& id) { return support_points.at(id); };
+ private:
+  bool in_block(const Point2& x) const { return std::abs(x[0]) < b_ && std::abs(x[1]) < b_; }
+
+  void make_coarse(Triangulation<2>& tria) const {
+    const double W = W_, H = H_;
+    const double b = b_;
+    const auto steps_along = [b](double half) {
+      const std::vector<double> pad = padding_steps(b, half - b);
+      std::vector<double> steps(pad.rbegin(), pad.rend());
+      steps.push_back(b);
+      steps.push_back(b);
+      steps.insert(steps.end(), pad.begin(), pad.end());
+      return steps;
+    };
+    Triangulation<2> outer, outer_holed, block;
+    GridGenerator::subdivided_hyper_rectangle(outer, {steps_along(W), steps_along(H)},
+                                              Point2(-W, -H), Point2(W, H), false);
+    std::set<Triangulation<2>::active_cell_iterator> central;
+    for (const auto& cell : outer.active_cell_iterators())
+      if (in_block(cell->center())) central.insert(cell);
+    GridGenerator::create_triangulation_with_removed_cells(outer, central, outer_holed);
+    GridGenerator::hyper_cube_with_cylindrical_hole(block, R_, b, 1.0, 1, false);
+    GridGenerator::merge_triangulations(outer_holed, block, tria, 1e-9 * R_);
   }
-};
 
-void make_mesh(Mesh& m, double R, double W, double H, int refinement) {
-  make_intruder_mesh(m.serial, R, W, H, refinement);
-  const unsigned int ranks = static_cast<unsigned int>(MpiSession::size());  // 1 without MPI
-  if (ranks == 1) return;
-  const Q2SupportPoints q2;
-  for (const auto& cell : m.serial.cell_iterators()) m.support_points.emplace(cell->id(), q2.of(cell));
-  GridTools::partition_triangulation(ranks, m.serial);
-  const auto description =
-      TriangulationDescription::Utilities::create_description_from_triangulation(m.serial, MPI_COMM_WORLD);
-  m.distributed = std::make_unique<parallel::fullydistributed::Triangulation<2>>(MPI_COMM_WORLD);
-  m.distributed->create_triangulation(description);
-  m.distributed->set_all_manifold_ids(numbers::flat_manifold_id);
-  // the description carries the coarse vertices only: the distributed mesh made the finer
-  // ones by flat refinement. Put them where the serial mesh has them (the first support
-  // points of a cell are its vertices).
-  for (const auto& cell : m.distributed->cell_iterators())
-    for (const unsigned int v : cell->vertex_indices()) cell->vertex(v) = m.support_points.at(cell->id())[v];
-}
+  /// Boundary and manifold ids, the polar and transfinite-interpolation manifolds.
+  void decorate(Triangulation<2>& tria) const {
+    tria.reset_all_manifolds();
+    tria.set_all_manifold_ids(numbers::flat_manifold_id);
+    const double tol = 1e-6 * R_;
+    for (const auto& cell : tria.active_cell_iterators())
+      if (in_block(cell->center())) cell->set_all_manifold_ids(1);
+    for (const auto& cell : tria.active_cell_iterators())
+      for (const auto& face : cell->face_iterators()) {
+        if (!face->at_boundary()) continue;
+        const Point2 c = face->center();
+        if (std::abs(face->vertex(0).norm() - R_) < tol && std::abs(face->vertex(1).norm() - R_) < tol) {
+          face->set_boundary_id(kHole);
+          face->set_manifold_id(0);
+        } else if (std::abs(c[0] + W_) < tol) face->set_boundary_id(kLeft);
+        else if (std::abs(c[0] - W_) < tol) face->set_boundary_id(kRight);
+        else if (std::abs(c[1] + H_) < tol) face->set_boundary_id(kBottom);
+        else face->set_boundary_id(kTop);
+      }
+    tria.set_manifold(0, PolarManifold<2>(Point2()));
+    TransfiniteInterpolationManifold<2> tfi;
+    tfi.initialize(tria);
+    tria.set_manifold(1, tfi);
+  }
+
+  double R_, W_, H_, b_ = 0;
+  std::unique_ptr<Triangulation<2>> tria_;
+};
 
 }  // namespace
 
@@ -237,9 +225,8 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const double speed = V.norm();
     const double vref = std::max(speed, std::abs(omega) * R);
 
-    // ---- mesh (see make_intruder_mesh)
-    Mesh mesh;
-    make_mesh(mesh, R, W, H, c.refinement);
+    // ---- mesh (see IntruderMesh)
+    IntruderMesh mesh(R, W, H, c.refinement);
     Triangulation<internal::dim>& tria = mesh.tria();
 
     // ---- physics
@@ -252,7 +239,6 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       setup.log = log;
       setup.linear_solver = c.linear_solver;
       setup.schur_approximation = c.schur_approximation;
-      setup.mapping_support_points = mesh.support_point_function();
       if (g_used.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g_used); };
       // far field: Dirichlet u = -V where the flow enters or slides along the box, the
       // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
