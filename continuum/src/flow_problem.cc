@@ -26,6 +26,7 @@
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/lac/vector_memory.h>
 #include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
@@ -274,9 +275,8 @@ void FlowProblem::setup_system() {
   mapping_.initialize(MappingQ<dim>(2), tria_);
   dof_handler_.distribute_dofs(fe_);
   const bool iterative = setup_.linear_solver == LinearSolver::amg;
-  if (!iterative && n_ranks() > 1)
-    throw std::runtime_error("continuum: the direct solver runs on one MPI process only");
-  if (iterative) {
+  const bool distributed_direct = !iterative && n_ranks() > 1;
+  if (iterative || distributed_direct) {
     // two blocks, velocity then pressure; inside the velocity block the two components of a
     // node stay next to each other (the cell-wise numbering), which suits ML's aggregation
     DoFRenumbering::component_wise(dof_handler_, std::vector<unsigned int>{0, 0, 1});
@@ -297,7 +297,13 @@ void FlowProblem::setup_system() {
   DoFTools::make_sparsity_pattern(dof_handler_, sp, zero_constraints_, false);
   sp.compress();
   system_matrix_.reinit(sp);
-  if (!iterative) {
+  if (distributed_direct) {
+    // MUMPS (through Amesos) takes one matrix: the blocks are copied into it for each solve
+    TrilinosWrappers::SparsityPattern full(owned, owned, relevant, comm_);
+    DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
+    full.compress();
+    direct_distributed_.reinit(full);
+  } else if (!iterative) {
     DynamicSparsityPattern dsp(n);
     DoFTools::make_sparsity_pattern(dof_handler_, dsp, zero_constraints_, false);
     direct_sparsity_.copy_from(dsp);
@@ -484,10 +490,30 @@ int FlowProblem::solve(const VectorType& residual, VectorType& update, double re
   if (setup_.linear_solver == LinearSolver::amg) {
     iterations = solve_iterative(residual, update, relative_tolerance);
     update *= -1.0;
+  } else if (n_ranks() > 1) {
+    // MUMPS on the blocks copied into one distributed matrix (global numbering: the blocks'
+    // one after the other)
+    const types::global_dof_index offset[2] = {0, n_u_};
+    for (unsigned int bi = 0; bi < 2; ++bi)
+      for (unsigned int bj = 0; bj < 2; ++bj)
+        for_each_entry(system_matrix_.block(bi, bj), [&](types::global_dof_index i,
+                                                         types::global_dof_index j, double v) {
+          direct_distributed_.set(offset[bi] + i, offset[bj] + j, v);
+        });
+    direct_distributed_.compress(VectorOperation::insert);
+    const IndexSet& owned = dof_handler_.locally_owned_dofs();
+    TrilinosWrappers::MPI::Vector b(owned, comm_), x(owned, comm_);
+    for (const auto i : owned) b(i) = residual(i);
+    b.compress(VectorOperation::insert);
+    SolverControl control(1, 0);
+    TrilinosWrappers::SolverDirect direct(
+        control, TrilinosWrappers::SolverDirect::AdditionalData(false, "Amesos_Mumps"));
+    direct.solve(direct_distributed_, x, b);
+    for (const auto i : owned) update(i) = -x(i);
+    update.compress(VectorOperation::insert);
   } else {
-    // one rank (setup_system refuses more): UMFPACK on a deal.II copy of the matrix, whose
-    // global numbering is the blocks' one after the other
-    if (n_ranks() > 1) throw std::runtime_error("continuum: the direct solver runs on one MPI process only");
+    // one rank: UMFPACK on a deal.II copy of the matrix, whose global numbering is the
+    // blocks' one after the other
     direct_matrix_ = 0;
     const types::global_dof_index offset[2] = {0, n_u_};
     for (unsigned int bi = 0; bi < 2; ++bi)

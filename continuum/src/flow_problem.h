@@ -127,8 +127,8 @@ class FlowProblem {
   /// Solve system_matrix * update = -residual; update satisfies zero constraints. Direct
   /// (UMFPACK), or FGMRES to |K update + residual| <= @p relative_tolerance |residual| (amg).
   /// Returns the number of Krylov iterations (0 for the direct solver).
-  /// Direct: UMFPACK on one rank (the matrix copied into a deal.II SparseMatrix); with more
-  /// ranks the direct solver is not available (throws).
+  /// Direct: UMFPACK on one rank (the matrix copied into a deal.II SparseMatrix), MUMPS
+  /// (Trilinos Amesos) on the whole matrix with more ranks.
   int solve(const VectorType& residual, VectorType& update, double relative_tolerance = 1e-12);
   /// <directory>/<basename>.vtu (one file; written with MPI I/O by all ranks together when
   /// distributed). Collective.
@@ -221,6 +221,8 @@ class FlowProblem {
   // ---- direct solver (one rank): the matrix copied into deal.II's format for UMFPACK
   dealii::SparsityPattern direct_sparsity_;
   dealii::SparseMatrix<double> direct_matrix_;
+  // ---- direct solver (more ranks): MUMPS on the whole matrix
+  dealii::TrilinosWrappers::SparseMatrix direct_distributed_;
   // ---- block preconditioner (LinearSolver::amg)
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;

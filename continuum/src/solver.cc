@@ -208,9 +208,6 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
   const int ranks = MpiSession::size();
   if (ranks > 1) {
     const std::string started = " (started as one of " + std::to_string(ranks) + " MPI ranks)";
-    require(c.linear_solver == LinearSolver::amg,
-            "continuum.linear_solver = \"direct\" runs on one MPI process only" + started +
-                ": set continuum.linear_solver = \"amg\" or run without mpirun");
     require(c.adaptive_cycles == 0,
             "continuum.adaptive_cycles > 0 runs on one MPI process only" + started +
                 ": set continuum.adaptive_cycles = 0 or run without mpirun");
