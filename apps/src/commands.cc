@@ -83,9 +83,12 @@ int cmd_run(const RunArgs& a) {
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(a.case_path) : a.out;
   opt.threads = a.threads;
-  opt.progress = !a.quiet;
+  // under mpirun every rank solves (the continuum is distributed), rank 0 alone reports and
+  // writes the files
+  opt.writer = process_rank() == 0;
+  opt.progress = !a.quiet && opt.writer;
   const auto results = run_solvers(c, solvers, opt);
-  print_results(results, opt.out_dir);
+  if (opt.writer) print_results(results, opt.out_dir);
   return exit_success;
 }
 
@@ -140,6 +143,11 @@ std::string safe_name(std::string s) {
 }
 
 int cmd_sweep(const RunArgs& a, const std::string& vary) {
+  if (process_count() > 1)
+    throw InputError(fmt::format(
+        "sweep runs on one MPI process only (started as one of {} ranks): run it without "
+        "mpirun, or use mpirun with `grainlift run` for each member",
+        process_count()));
   const auto eq = vary.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == vary.size())
     throw InputError(fmt::format("--vary '{}': expected section.key=v1,v2,...", vary));

@@ -13,4 +13,8 @@ int main_with_args(int argc, char** argv);
 /// The solvers compiled into this binary (solver_table.cc).
 std::vector<SolverEntry> available_solvers();
 
+/// Rank and number of processes of an MPI run (0 and 1 without MPI; solver_table.cc).
+int process_rank();
+int process_count();
+
 }  // namespace grainlift::app

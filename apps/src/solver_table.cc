@@ -6,6 +6,7 @@
 #endif
 #ifdef GRAINLIFT_HAVE_FEM
 #include "grainlift/continuum/continuum_solver.h"
+#include "grainlift/continuum/mpi_session.h"
 #endif
 
 namespace grainlift::app {
@@ -19,6 +20,22 @@ std::vector<SolverEntry> available_solvers() {
   s.push_back(continuum::solver_entry());
 #endif
   return s;
+}
+
+int process_rank() {
+#ifdef GRAINLIFT_HAVE_FEM
+  return continuum::MpiSession::rank();
+#else
+  return 0;
+#endif
+}
+
+int process_count() {
+#ifdef GRAINLIFT_HAVE_FEM
+  return continuum::MpiSession::size();
+#else
+  return 1;
+#endif
 }
 
 }  // namespace grainlift::app

@@ -7,6 +7,7 @@
 // Newton's Jacobian differentiates eta(|D|^2, p) in both arguments (see assemble_impl).
 #include "flow_problem.h"
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_renumbering.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -21,11 +22,15 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
 #include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/trilinos_index_access.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <Epetra_Vector.h>
 #include <mpi.h>
 
 #include <cmath>
@@ -72,71 +77,89 @@ const FEValuesExtractors::Scalar kPressure(dim);
 
 /// Trilinos objects need MPI even on one process. When the program has not initialised MPI
 /// (the tests, a serial run), do it here once and finalise at exit.
-void ensure_mpi() {
+int ensure_mpi() {
   int initialised = 0;
   MPI_Initialized(&initialised);
-  if (initialised) return;
+  if (initialised) return 0;
   MPI_Init(nullptr, nullptr);
   std::atexit([] {
     int finalised = 0;
     MPI_Finalized(&finalised);
     if (finalised) return;
+    // (the solvers' pools of Trilinos vectors are statics made after this handler was
+    // registered: they are destroyed before it runs, while MPI is still up)
     MPI_Finalize();
   });
+  return 0;
+}
+
+/// The diagonal of a square Trilinos matrix (locally owned rows) into @p d.
+void extract_diagonal(const TrilinosWrappers::SparseMatrix& m, TrilinosWrappers::MPI::Vector& d) {
+  Epetra_Vector view(View, d.trilinos_vector(), 0);
+  const int ierr = m.trilinos_matrix().ExtractDiagonalCopy(view);
+  AssertThrow(ierr == 0, ExcMessage("continuum: cannot extract the matrix diagonal"));
+}
+
+/// Element-wise sum over the ranks.
+std::vector<double> sum_over_ranks(std::vector<double> v, MPI_Comm comm) {
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm);
+  return v;
+}
+
+/// Sum over the locally owned entries of f(v_i, w_i), then over the ranks.
+template <typename F>
+double owned_sum(const VectorType& v, const VectorType& w, F f, MPI_Comm comm) {
+  double sum = 0;
+  for (unsigned int b = 0; b < v.n_blocks(); ++b) {
+    auto wi = w.block(b).begin();
+    for (auto vi = v.block(b).begin(); vi != v.block(b).end(); ++vi, ++wi) sum += f(*vi, *wi);
+  }
+  return Utilities::MPI::sum(sum, comm);
 }
 
 /// Block upper-triangular preconditioner of K = [A B^T; B 0]:
 ///   P = [A B^T; 0 -S],  P^{-1} (x_u, x_p):  y_p = -S^{-1} x_p,  y_u = A^{-1} (x_u - B^T y_p)
 /// A^{-1}: one AMG V-cycle on the velocity block. S^{-1}: one AMG V-cycle on B diag(A)^{-1} B^T
 /// (SchurApproximation::diagonal_a), or the inverse of the lumped 1/eta-weighted pressure mass
-/// matrix (viscosity_mass). B^T y_p is taken from K itself (in Newton's Jacobian the (u,p)
-/// block also holds the d eta / dp term, so it is not the transpose of the (p,u) block).
+/// matrix (viscosity_mass). B^T y_p is the (u,p) block of K itself (in Newton's Jacobian it
+/// also holds the d eta / dp term, so it is not the transpose of the (p,u) block).
 class BlockTriangularPreconditioner {
  public:
   /// @p schur_diagonal: the diagonal of the Schur approximation (used for the scaling, and as
   /// S itself when @p schur_amg is null).
-  BlockTriangularPreconditioner(const SparseMatrix<double>& K, types::global_dof_index n_u,
-                                const TrilinosWrappers::PreconditionAMG& a_amg,
+  BlockTriangularPreconditioner(const MatrixType& K, const TrilinosWrappers::PreconditionAMG& a_amg,
                                 const TrilinosWrappers::PreconditionAMG* schur_amg,
-                                Vector<double> schur_diagonal)
-      : K_(K), n_u_(n_u), a_amg_(a_amg), schur_amg_(schur_amg), n_p_(K.m() - n_u),
-        schur_diagonal_(std::move(schur_diagonal)), tmp_(K.m()), ku_(K.m()), xu_(n_u),
-        yu_(n_u), xp_(n_p_), yp_(n_p_) {}
+                                const TrilinosWrappers::MPI::Vector& schur_diagonal)
+      : K_(K), a_amg_(a_amg), schur_amg_(schur_amg), schur_diagonal_(schur_diagonal),
+        xu_(K.block(0, 0).locally_owned_range_indices(), schur_diagonal.get_mpi_communicator()) {}
 
-  void vmult(Vector<double>& dst, const Vector<double>& src) const {
-    for (types::global_dof_index i = 0; i < n_p_; ++i) xp_(i) = src(n_u_ + i);
+  void vmult(VectorType& dst, const VectorType& src) const {
     if (schur_amg_) {
-      schur_amg_->vmult(yp_, xp_);
+      schur_amg_->vmult(dst.block(1), src.block(1));
     } else {
-      for (types::global_dof_index i = 0; i < n_p_; ++i) yp_(i) = xp_(i) / schur_diagonal_(i);
+      auto s = schur_diagonal_.begin();
+      auto y = dst.block(1).begin();
+      for (auto x = src.block(1).begin(); x != src.block(1).end(); ++x, ++y, ++s) *y = *x / *s;
     }
-    yp_ *= -1.0;
-    tmp_ = 0;
-    for (types::global_dof_index i = 0; i < n_p_; ++i) tmp_(n_u_ + i) = yp_(i);
-    K_.vmult(ku_, tmp_);  // (B^T y_p, 0 y_p)
-    for (types::global_dof_index i = 0; i < n_u_; ++i) xu_(i) = src(i) - ku_(i);
-    a_amg_.vmult(yu_, xu_);
-    for (types::global_dof_index i = 0; i < n_u_; ++i) dst(i) = yu_(i);
-    for (types::global_dof_index i = 0; i < n_p_; ++i) dst(n_u_ + i) = yp_(i);
+    dst.block(1) *= -1.0;
+    K_.block(0, 1).vmult(xu_, dst.block(1));  // B^T y_p
+    xu_.sadd(-1.0, 1.0, src.block(0));        // x_u - B^T y_p
+    a_amg_.vmult(dst.block(0), xu_);
   }
 
-  double schur_diagonal(types::global_dof_index i) const { return schur_diagonal_(i); }
-
  private:
-  const SparseMatrix<double>& K_;
-  const types::global_dof_index n_u_;
+  const MatrixType& K_;
   const TrilinosWrappers::PreconditionAMG& a_amg_;
   const TrilinosWrappers::PreconditionAMG* schur_amg_;
-  const types::global_dof_index n_p_;
-  const Vector<double> schur_diagonal_;
-  mutable Vector<double> tmp_, ku_, xu_, yu_, xp_, yp_;
+  const TrilinosWrappers::MPI::Vector& schur_diagonal_;
+  mutable TrilinosWrappers::MPI::Vector xu_;
 };
 
 /// D K D for a diagonal D (the vector @p d).
 class ScaledMatrix {
  public:
-  ScaledMatrix(const SparseMatrix<double>& K, const Vector<double>& d) : K_(K), d_(d), t_(d.size()) {}
-  void vmult(Vector<double>& dst, const Vector<double>& src) const {
+  ScaledMatrix(const MatrixType& K, const VectorType& d) : K_(K), d_(d), t_(d) {}
+  void vmult(VectorType& dst, const VectorType& src) const {
     t_ = src;
     t_.scale(d_);
     K_.vmult(dst, t_);
@@ -144,48 +167,82 @@ class ScaledMatrix {
   }
 
  private:
-  const SparseMatrix<double>& K_;
-  const Vector<double>& d_;
-  mutable Vector<double> t_;
+  const MatrixType& K_;
+  const VectorType& d_;
+  mutable VectorType t_;
 };
 
-/// D^{-1} P^{-1} D^{-1}: the preconditioner of K carried over to D K D.
+/// D^{-1} P^{-1} D^{-1}: the preconditioner of K carried over to D K D (@p d_inverse = D^{-1}).
 class ScaledPreconditioner {
  public:
-  ScaledPreconditioner(const BlockTriangularPreconditioner& P, const Vector<double>& d)
-      : P_(P), d_(d), t_(d.size()) {}
-  void vmult(Vector<double>& dst, const Vector<double>& src) const {
-    for (unsigned int i = 0; i < t_.size(); ++i) t_(i) = src(i) / d_(i);
+  ScaledPreconditioner(const BlockTriangularPreconditioner& P, const VectorType& d_inverse)
+      : P_(P), d_inverse_(d_inverse), t_(d_inverse) {}
+  void vmult(VectorType& dst, const VectorType& src) const {
+    t_ = src;
+    t_.scale(d_inverse_);
     P_.vmult(dst, t_);
-    for (unsigned int i = 0; i < t_.size(); ++i) dst(i) /= d_(i);
+    dst.scale(d_inverse_);
   }
 
  private:
   const BlockTriangularPreconditioner& P_;
-  const Vector<double>& d_;
-  mutable Vector<double> t_;
+  const VectorType& d_inverse_;
+  mutable VectorType t_;
 };
 
-/// Copy the entries of @p full in rows [row0, row0 + block.m()) and columns
-/// [col0, col0 + block.n()) into @p block.
-void copy_block(const SparseMatrix<double>& full, types::global_dof_index row0,
-                types::global_dof_index col0, SparseMatrix<double>& block) {
-  const types::global_dof_index m = block.m(), n = block.n();
-  for (types::global_dof_index i = 0; i < m; ++i)
-    for (auto it = full.begin(row0 + i); it != full.end(row0 + i); ++it) {
-      const types::global_dof_index j = it->column();
-      if (j >= col0 && j < col0 + n) block.set(i, j - col0, it->value());
-    }
+/// Calls f(row, column, value) for the stored entries of the locally owned rows of @p m
+/// (Epetra's row views: deal.II's iterators over a Trilinos matrix cost O(columns) per row).
+template <typename F>
+void for_each_entry(const TrilinosWrappers::SparseMatrix& m, F f) {
+  const Epetra_CrsMatrix& e = m.trilinos_matrix();
+  for (int r = 0; r < e.NumMyRows(); ++r) {
+    int n = 0;
+    double* values = nullptr;
+    int* columns = nullptr;
+    e.ExtractMyRowView(r, n, values, columns);
+    const types::global_dof_index i = TrilinosWrappers::global_row_index(e, r);
+    for (int k = 0; k < n; ++k) f(i, TrilinosWrappers::global_index(e.ColMap(), columns[k]), values[k]);
+  }
+}
+
+/// @p m with a diagonal entry @p value added in the locally owned rows that have none (a
+/// pinned pressure dof has no (p,u) coupling, so its row of B diag(A)^{-1} B^T is empty).
+void add_missing_diagonal(TrilinosWrappers::SparseMatrix& m, double value) {
+  const IndexSet rows = m.locally_owned_range_indices();
+  TrilinosWrappers::SparsityPattern sp(rows, rows, m.get_mpi_communicator());
+  std::vector<std::pair<types::global_dof_index, std::pair<types::global_dof_index, double>>> entries;
+  for (const auto i : rows) sp.add(i, i);
+  for_each_entry(m, [&](types::global_dof_index i, types::global_dof_index j, double v) {
+    sp.add(i, j);
+    entries.push_back({i, {j, v}});
+  });
+  sp.compress();
+  m.reinit(sp);
+  for (const auto& [i, e] : entries) m.set(i, e.first, e.second);
+  for (const auto i : rows)
+    if (!(std::abs(m.diag_element(i)) > 0)) m.set(i, i, value);
+  m.compress(VectorOperation::insert);
 }
 
 }  // namespace
 
 FlowProblem::FlowProblem(Triangulation<dim>& tria, const ProblemSetup& setup)
-    : tria_(tria), setup_(setup), fe_(FE_Q<dim>(2), dim, FE_Q<dim>(1), 1), mapping_(2),
-      dof_handler_(tria) {}
+    : mpi_ready_(ensure_mpi()), tria_(tria), comm_(tria.get_communicator()), setup_(setup),
+      fe_(FE_Q<dim>(2), dim, FE_Q<dim>(1), 1), mapping_(2), dof_handler_(tria) {}
+
+unsigned int FlowProblem::n_ranks() const { return Utilities::MPI::n_mpi_processes(comm_); }
+
+VectorType FlowProblem::make_vector() const { return VectorType(owned_, comm_); }
+
+VectorType FlowProblem::ghosted(const VectorType& v) const {
+  VectorType g(owned_, relevant_, comm_);
+  g = v;
+  return g;
+}
 
 void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneous) const {
   c.clear();
+  c.reinit(DoFTools::extract_locally_relevant_dofs(dof_handler_));
   DoFTools::make_hanging_node_constraints(dof_handler_, c);
   for (const auto& [b1, b2] : setup_.bc.periodic_x)
     DoFTools::make_periodicity_constraints(dof_handler_, b1, b2, 0, c);
@@ -203,9 +260,8 @@ void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneou
                                                fe_.component_mask(kVelocity));
   }
   if (setup_.bc.pin_pressure) {
-    const auto counts = DoFTools::count_dofs_per_fe_component(dof_handler_);
-    const types::global_dof_index first_p = counts[0] + counts[1];
-    if (!c.is_constrained(first_p)) {
+    const types::global_dof_index first_p = n_u_;  // the first pressure dof
+    if (c.can_store_line(first_p) && !c.is_constrained(first_p)) {
       c.add_line(first_p);
       c.set_inhomogeneity(first_p, 0.0);
     }
@@ -218,49 +274,45 @@ void FlowProblem::setup_system() {
   mapping_.initialize(MappingQ<dim>(2), tria_);
   dof_handler_.distribute_dofs(fe_);
   const bool iterative = setup_.linear_solver == LinearSolver::amg;
-  if (iterative) {
+  const bool distributed_direct = !iterative && n_ranks() > 1;
+  if (iterative || distributed_direct) {
     // two blocks, velocity then pressure; inside the velocity block the two components of a
     // node stay next to each other (the cell-wise numbering), which suits ML's aggregation
-    ensure_mpi();
     DoFRenumbering::component_wise(dof_handler_, std::vector<unsigned int>{0, 0, 1});
   } else {
     DoFRenumbering::Cuthill_McKee(dof_handler_);
     DoFRenumbering::component_wise(dof_handler_);  // u_x, then u_y, then p
   }
+  const auto counts = DoFTools::count_dofs_per_fe_component(dof_handler_);
+  n_u_ = counts[0] + counts[1];
+  const types::global_dof_index n = dof_handler_.n_dofs();
+  const IndexSet owned = dof_handler_.locally_owned_dofs();
+  const IndexSet relevant = DoFTools::extract_locally_relevant_dofs(dof_handler_);
+  owned_ = {owned.get_view(0, n_u_), owned.get_view(n_u_, n)};
+  relevant_ = {relevant.get_view(0, n_u_), relevant.get_view(n_u_, n)};
   make_constraints(nonzero_constraints_, false);
   make_constraints(zero_constraints_, true);
-  DynamicSparsityPattern dsp(dof_handler_.n_dofs());
-  DoFTools::make_sparsity_pattern(dof_handler_, dsp, zero_constraints_, false);
-  sparsity_.copy_from(dsp);
-  system_matrix_.reinit(sparsity_);
-  if (iterative) {
-    const auto counts = DoFTools::count_dofs_per_fe_component(dof_handler_);
-    n_u_ = counts[0] + counts[1];
-    const types::global_dof_index n = dof_handler_.n_dofs(), n_p = n - n_u_;
-    DynamicSparsityPattern uu(n_u_), pp(n_p), up(n_u_, n_p), pu(n_p, n_u_);
-    for (types::global_dof_index i = 0; i < n; ++i)
-      for (auto it = sparsity_.begin(i); it != sparsity_.end(i); ++it) {
-        const types::global_dof_index j = it->column();
-        if (i < n_u_ && j < n_u_) uu.add(i, j);
-        else if (i >= n_u_ && j >= n_u_) pp.add(i - n_u_, j - n_u_);
-        else if (i < n_u_) up.add(i, j - n_u_);
-        else pu.add(i - n_u_, j);
-      }
-    sparsity_uu_.copy_from(uu);
-    sparsity_pp_.copy_from(pp);
-    sparsity_up_.copy_from(up);
-    sparsity_pu_.copy_from(pu);
-    block_uu_.reinit(sparsity_uu_);
-    block_pp_.reinit(sparsity_pp_);
-    block_up_.reinit(sparsity_up_);
-    block_pu_.reinit(sparsity_pu_);
-    schur_bdb_.clear();
-    if (setup_.schur_approximation == SchurApproximation::viscosity_mass)
-      schur_mass_.reinit(sparsity_);
+  TrilinosWrappers::BlockSparsityPattern sp(owned_, owned_, relevant_, comm_);
+  DoFTools::make_sparsity_pattern(dof_handler_, sp, zero_constraints_, false);
+  sp.compress();
+  system_matrix_.reinit(sp);
+  if (distributed_direct) {
+    // MUMPS (through Amesos) takes one matrix: the blocks are copied into it for each solve
+    TrilinosWrappers::SparsityPattern full(owned, owned, relevant, comm_);
+    DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
+    full.compress();
+    direct_distributed_.reinit(full);
+  } else if (!iterative) {
+    DynamicSparsityPattern dsp(n);
+    DoFTools::make_sparsity_pattern(dof_handler_, dsp, zero_constraints_, false);
+    direct_sparsity_.copy_from(dsp);
+    direct_matrix_.reinit(direct_sparsity_);
+  } else {
+    if (setup_.schur_approximation == SchurApproximation::viscosity_mass) schur_mass_.reinit(sp);
     DoFTools::extract_constant_modes(dof_handler_, fe_.component_mask(kVelocity),
                                      velocity_constant_modes_);
   }
-  solution_.reinit(dof_handler_.n_dofs());
+  solution_.reinit(owned_, comm_);
   cache_.reset();
   traction_id_ = -1;
 }
@@ -272,18 +324,18 @@ void FlowProblem::interpolate_initial_guess() {
   nonzero_constraints_.distribute(solution_);
 }
 
-double FlowProblem::assemble_system(const Vector<double>& state, bool matrix, bool newton,
-                                    Vector<double>& residual) {
+double FlowProblem::assemble_system(const VectorType& state, bool matrix, bool newton,
+                                    VectorType& residual) {
   const bool schur = matrix && setup_.linear_solver == LinearSolver::amg &&
                      setup_.schur_approximation == SchurApproximation::viscosity_mass;
-  return assemble_impl(state, matrix ? &system_matrix_ : nullptr, newton, residual, false,
+  return assemble_impl(ghosted(state), matrix ? &system_matrix_ : nullptr, newton, residual, false,
                        schur ? &schur_mass_ : nullptr);
 }
 
-double FlowProblem::assemble_impl(const Vector<double>& state, SparseMatrix<double>* matrix,
-                                  bool newton, Vector<double>& residual,
-                                  bool reaction_mode, SparseMatrix<double>* schur_mass) const {
-  residual.reinit(dof_handler_.n_dofs());
+double FlowProblem::assemble_impl(const VectorType& state, MatrixType* matrix, bool newton,
+                                  VectorType& residual, bool reaction_mode,
+                                  MatrixType* schur_mass) const {
+  residual.reinit(owned_, comm_);
   if (matrix) *matrix = 0;
   if (schur_mass) *schur_mass = 0;
   FullMatrix<double> cmass(schur_mass ? fe_.n_dofs_per_cell() : 0,
@@ -315,6 +367,7 @@ double FlowProblem::assemble_impl(const Vector<double>& state, SparseMatrix<doub
   const bool inertia = rho > 0;
 
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
     fev.reinit(cell);
     cm = 0;
     cr = 0;
@@ -416,7 +469,7 @@ double FlowProblem::assemble_impl(const Vector<double>& state, SparseMatrix<doub
 
     cell->get_dof_indices(idx);
     if (reaction_mode) {
-      for (unsigned int i = 0; i < dpc; ++i) residual(idx[i]) += cr(i);
+      residual.add(idx, cr);  // entries of other ranks travel at compress()
     } else if (matrix) {
       zero_constraints_.distribute_local_to_global(cm, cr, idx, *matrix, residual);
       if (schur_mass) zero_constraints_.distribute_local_to_global(cmass, idx, *schur_mass);
@@ -424,22 +477,62 @@ double FlowProblem::assemble_impl(const Vector<double>& state, SparseMatrix<doub
       zero_constraints_.distribute_local_to_global(cr, idx, residual);
     }
   }
+  if (matrix) matrix->compress(VectorOperation::add);
+  if (schur_mass) schur_mass->compress(VectorOperation::add);
+  residual.compress(VectorOperation::add);
   return residual.l2_norm();
 }
 
-int FlowProblem::solve(const Vector<double>& residual, Vector<double>& update,
-                       double relative_tolerance) {
+int FlowProblem::solve(const VectorType& residual, VectorType& update, double relative_tolerance) {
   int iterations = 0;
+  update.reinit(owned_, comm_);
   if (setup_.linear_solver == LinearSolver::amg) {
-    update.reinit(residual.size());
     iterations = solve_iterative(residual, update, relative_tolerance);
     update *= -1.0;
+  } else if (n_ranks() > 1) {
+    // MUMPS on the blocks copied into one distributed matrix (global numbering: the blocks'
+    // one after the other)
+    const types::global_dof_index offset[2] = {0, n_u_};
+    for (unsigned int bi = 0; bi < 2; ++bi)
+      for (unsigned int bj = 0; bj < 2; ++bj)
+        for_each_entry(system_matrix_.block(bi, bj), [&](types::global_dof_index i,
+                                                         types::global_dof_index j, double v) {
+          direct_distributed_.set(offset[bi] + i, offset[bj] + j, v);
+        });
+    direct_distributed_.compress(VectorOperation::insert);
+    const IndexSet& owned = dof_handler_.locally_owned_dofs();
+    TrilinosWrappers::MPI::Vector b(owned, comm_), x(owned, comm_);
+    for (const auto i : owned) b(i) = residual(i);
+    b.compress(VectorOperation::insert);
+    SolverControl control(1, 0);
+    TrilinosWrappers::SolverDirect direct(
+        control, TrilinosWrappers::SolverDirect::AdditionalData(false, "Amesos_Mumps"));
+    direct.solve(direct_distributed_, x, b);
+    for (const auto i : owned) update(i) = -x(i);
+    update.compress(VectorOperation::insert);
   } else {
+    // one rank: UMFPACK on a deal.II copy of the matrix, whose global numbering is the
+    // blocks' one after the other
+    direct_matrix_ = 0;
+    const types::global_dof_index offset[2] = {0, n_u_};
+    for (unsigned int bi = 0; bi < 2; ++bi)
+      for (unsigned int bj = 0; bj < 2; ++bj) {
+        for_each_entry(system_matrix_.block(bi, bj), [&](types::global_dof_index i,
+                                                         types::global_dof_index j, double v) {
+          direct_matrix_.set(offset[bi] + i, offset[bj] + j, v);
+        });
+      }
     SparseDirectUMFPACK direct;
-    direct.initialize(system_matrix_);
-    update = residual;
-    direct.solve(update);
-    update *= -1.0;
+    direct.initialize(direct_matrix_);
+    Vector<double> x(residual.size());
+    auto xi = x.begin();  // one rank: the owned entries of the blocks are all of them, in order
+    for (unsigned int b = 0; b < 2; ++b)
+      for (const double v : residual.block(b)) *xi++ = v;
+    direct.solve(x);
+    x *= -1.0;
+    xi = x.begin();
+    for (unsigned int b = 0; b < 2; ++b)
+      for (double& v : update.block(b)) v = *xi++;
   }
   zero_constraints_.distribute(update);
   ++report_.linear_solves;
@@ -447,16 +540,12 @@ int FlowProblem::solve(const Vector<double>& residual, Vector<double>& update,
   return iterations;
 }
 
-int FlowProblem::solve_iterative(const Vector<double>& rhs, Vector<double>& x,
-                                 double relative_tolerance) {
-  const types::global_dof_index n = rhs.size(), n_p = n - n_u_;
-  copy_block(system_matrix_, 0, 0, block_uu_);
+int FlowProblem::solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance) {
+  const TrilinosWrappers::SparseMatrix& A = system_matrix_.block(0, 0);
   // AMG (Trilinos ML, smoothed aggregation) on the velocity block: the two velocity components
   // as the near-null space, Q2 elements. The block is symmetric without inertia (the Newton
   // term 2 eta_s (D:D_j)(D:D_i) is symmetric); "elliptic" (Chebyshev smoother) measured better
   // than the non-symmetric setting on the cylinder (76 against 103 FGMRES iterations per solve).
-  TrilinosWrappers::SparseMatrix a_uu;
-  a_uu.reinit(block_uu_);
   TrilinosWrappers::PreconditionAMG a_amg;
   {
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
@@ -465,77 +554,79 @@ int FlowProblem::solve_iterative(const Vector<double>& rhs, Vector<double>& x,
     data.smoother_sweeps = 2;
     data.aggregation_threshold = 0.02;
     data.constant_modes = velocity_constant_modes_;
-    a_amg.initialize(a_uu, data);
+    a_amg.initialize(A, data);
   }
   // Schur complement approximation
-  Vector<double> schur_diagonal(n_p);
-  TrilinosWrappers::SparseMatrix s_tril;
+  TrilinosWrappers::MPI::Vector schur_diagonal(owned_[1], comm_);
+  TrilinosWrappers::SparseMatrix schur_bdb;
   TrilinosWrappers::PreconditionAMG s_amg;
   const bool diagonal_a = setup_.schur_approximation == SchurApproximation::diagonal_a;
   if (diagonal_a) {
     // S = B diag(A)^{-1} B^T, a pressure Laplacian weighted by the actual velocity block:
     // unlike M_p / eta it sees the constraints and where eta jumps by decades between cells
-    copy_block(system_matrix_, 0, n_u_, block_up_);
-    copy_block(system_matrix_, n_u_, 0, block_pu_);
-    Vector<double> inv_diag(n_u_);
-    for (types::global_dof_index i = 0; i < n_u_; ++i)
-      inv_diag(i) = 1.0 / std::abs(block_uu_.diag_element(i));
-    if (schur_bdb_.empty()) {
-      sparsity_s_.copy_from(sparsity_pp_);
-      schur_bdb_.reinit(sparsity_s_);
-      block_pu_.mmult(schur_bdb_, block_up_, inv_diag, true);  // rebuilds sparsity_s_ once
-    } else {
-      schur_bdb_ = 0;  // mmult adds to C when the pattern is kept
-      block_pu_.mmult(schur_bdb_, block_up_, inv_diag, false);
-    }
+    TrilinosWrappers::MPI::Vector inv_diag(owned_[0], comm_);
+    extract_diagonal(A, inv_diag);
+    for (auto& v : inv_diag) v = 1.0 / std::abs(v);
+    system_matrix_.block(1, 0).mmult(schur_bdb, system_matrix_.block(0, 1), inv_diag);
     // rows without a (p,u) coupling (a pinned pressure): unit-scale diagonal
+    extract_diagonal(schur_bdb, schur_diagonal);
     double dmax = 0;
-    for (types::global_dof_index i = 0; i < n_p; ++i)
-      dmax = std::max(dmax, std::abs(schur_bdb_.diag_element(i)));
-    for (types::global_dof_index i = 0; i < n_p; ++i) {
-      if (!(std::abs(schur_bdb_.diag_element(i)) > 0)) schur_bdb_.diag_element(i) = dmax;
-      schur_diagonal(i) = std::abs(schur_bdb_.diag_element(i));
+    bool missing = false;
+    for (const double v : schur_diagonal) {
+      dmax = std::max(dmax, std::abs(v));
+      missing = missing || !(std::abs(v) > 0);
     }
-    s_tril.reinit(schur_bdb_);
+    dmax = Utilities::MPI::max(dmax, comm_);
+    if (Utilities::MPI::logical_or(missing, comm_)) {
+      add_missing_diagonal(schur_bdb, dmax);
+      extract_diagonal(schur_bdb, schur_diagonal);
+    }
+    for (auto& v : schur_diagonal) v = std::abs(v);
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
     data.elliptic = true;
     data.smoother_sweeps = 2;
-    s_amg.initialize(s_tril, data);
+    s_amg.initialize(schur_bdb, data);
   } else {
-    copy_block(schur_mass_, n_u_, n_u_, block_pp_);
-    for (types::global_dof_index i = 0; i < n_p; ++i) {
-      double sum = 0;  // lumped: row sums, positive for Q1
-      for (auto it = block_pp_.begin(i); it != block_pp_.end(i); ++it) sum += it->value();
-      schur_diagonal(i) = sum;
-    }
+    TrilinosWrappers::MPI::Vector ones(owned_[1], comm_);
+    ones = 1.0;
+    schur_mass_.block(1, 1).vmult(schur_diagonal, ones);  // lumped: row sums, positive for Q1
   }
-  const BlockTriangularPreconditioner prec(system_matrix_, n_u_, a_amg,
-                                           diagonal_a ? &s_amg : nullptr, schur_diagonal);
+  const BlockTriangularPreconditioner prec(system_matrix_, a_amg, diagonal_a ? &s_amg : nullptr,
+                                           schur_diagonal);
   // The momentum and continuity rows of K have different units and scales (forces against
   // h div u), and eta varies by decades: the Euclidean residual of K barely sees div u. FGMRES
   // therefore works on D K D y = D rhs, x = D y, D = diag(A_ii)^(-1/2) on the velocity and
   // diag(S_ii)^(-1/2) on the pressure (both blocks with unit diagonal, an energy-like norm);
   // the tolerance applies to |D r|.
-  Vector<double> d(n), b(n), y(n);
-  for (types::global_dof_index i = 0; i < n; ++i) {
-    const double a = i < n_u_ ? std::abs(system_matrix_.diag_element(i)) : prec.schur_diagonal(i - n_u_);
-    d(i) = a > 0 && std::isfinite(a) ? 1.0 / std::sqrt(a) : 1.0;
-    b(i) = d(i) * rhs(i);
+  VectorType d = make_vector(), d_inverse = make_vector(), b = make_vector(), y = make_vector();
+  extract_diagonal(A, d.block(0));
+  d.block(1) = schur_diagonal;
+  for (unsigned int blk = 0; blk < 2; ++blk) {
+    auto di = d_inverse.block(blk).begin();
+    for (auto& v : d.block(blk)) {
+      const double a = std::abs(v);
+      v = a > 0 && std::isfinite(a) ? 1.0 / std::sqrt(a) : 1.0;
+      *di++ = 1.0 / v;
+    }
   }
+  b = rhs;
+  b.scale(d);
   const ScaledMatrix scaled(system_matrix_, d);
-  const ScaledPreconditioner scaled_prec(prec, d);
-  SolverControl control(1000, std::max(relative_tolerance * b.l2_norm(), 1e-300));
-  SolverFGMRES<Vector<double>> fgmres(control, SolverFGMRES<Vector<double>>::AdditionalData(100));
+  const ScaledPreconditioner scaled_prec(prec, d_inverse);
+  const double b_norm = b.l2_norm();
+  SolverControl control(1000, std::max(relative_tolerance * b_norm, 1e-300));
+  SolverFGMRES<VectorType> fgmres(control, SolverFGMRES<VectorType>::AdditionalData(100));
   try {
     fgmres.solve(scaled, y, b, scaled_prec);
   } catch (const SolverControl::NoConvergence& e) {
     std::ostringstream os;
     os << "continuum: FGMRES did not reach " << relative_tolerance << " in " << e.last_step
-       << " iterations (|D r|/|D b| = " << e.last_residual / std::max(b.l2_norm(), 1e-300)
+       << " iterations (|D r|/|D b| = " << e.last_residual / std::max(b_norm, 1e-300)
        << "); the step is used as it is";
     log(os.str());
   }
-  for (types::global_dof_index i = 0; i < n; ++i) x(i) = d(i) * y(i);
+  x = y;
+  x.scale(d);
   return static_cast<int>(control.last_step());
 }
 
@@ -548,7 +639,8 @@ void FlowProblem::run() {
 
 void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
   const auto n = dof_handler_.n_dofs();
-  Vector<double> res(n), upd(n), trial(n), trial_res(n), weight(n);
+  VectorType res = make_vector(), upd = make_vector(), trial = make_vector(),
+             trial_res = make_vector(), weight = make_vector();
   double r = assemble_system(solution_, false, false, res);
   report_.converged = false;
   report_.message.clear();
@@ -561,8 +653,9 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
       setup_.viscosity->is_nonlinear() || setup_.inertia_density > 0 || setup_.bc.friction;
   {
     std::ostringstream os;
-    os << "continuum: " << tria_.n_active_cells() << " cells, " << n << " dofs, initial residual "
-       << r0;
+    os << "continuum: " << tria_.n_global_active_cells() << " cells, " << n
+       << " dofs, initial residual " << r0;
+    if (n_ranks() > 1) os << " (" << n_ranks() << " MPI ranks)";
     log(os.str());
   }
   if (r0 <= nl.absolute_tolerance || r0 <= nl.relative_tolerance * r_ref) {
@@ -592,15 +685,16 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
       // steps; 46 -> 28 Newton steps on the spinning cylinder at refinement 2). With inertia
       // the convective diagonal makes the weights unreliable and the plain |R| did better.
       const bool scaled = setup_.inertia_density == 0;
-      for (unsigned int i = 0; i < n; ++i) {
-        const double d = std::abs(system_matrix_.diag_element(i));
-        weight(i) = d > 0 ? 1.0 / d : 1.0;
+      for (unsigned int b = 0; b < 2; ++b) {
+        extract_diagonal(system_matrix_.block(b, b), weight.block(b));
+        for (auto& w : weight.block(b)) {
+          const double d = std::abs(w);
+          w = d > 0 ? 1.0 / d : 1.0;
+        }
       }
-      const auto merit = [&](const Vector<double>& v) {
+      const auto merit = [&](const VectorType& v) {
         if (!scaled) return v.l2_norm();
-        double sum = 0;
-        for (unsigned int i = 0; i < n; ++i) sum += weight(i) * v(i) * v(i);
-        return std::sqrt(sum);
+        return std::sqrt(owned_sum(v, weight, [](double x, double w) { return w * x * x; }, comm_));
       };
       const double m0 = merit(res);
       // inexact Newton: the linear residual only needs to be small against the nonlinear one;
@@ -677,27 +771,36 @@ PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, c
   return s;
 }
 
-ForceTorque FlowProblem::reaction(types::boundary_id id, const Point2& centre) const {
-  Vector<double> r;
-  assemble_impl(solution_, nullptr, false, r, true);
+std::map<types::global_dof_index, double> FlowProblem::boundary_reaction(types::boundary_id id) const {
+  VectorType r;
+  assemble_impl(ghosted(solution_), nullptr, false, r, true);
   const IndexSet bd = DoFTools::extract_boundary_dofs(dof_handler_, fe_.component_mask(kVelocity), {id});
+  std::map<types::global_dof_index, double> out;
+  // the medium's force on the body is minus the residual tested with a rigid motion
+  for (const auto i : bd)
+    if (dof_handler_.locally_owned_dofs().is_element(i)) out.emplace(i, -r(i));
+  return out;
+}
+
+ForceTorque FlowProblem::reaction(types::boundary_id id, const Point2& centre) const {
+  const auto f_nodal = boundary_reaction(id);
   std::map<types::global_dof_index, Point<dim>> support;
   DoFTools::map_dofs_to_support_points(mapping_, dof_handler_, support);
   const IndexSet x_dofs = DoFTools::extract_dofs(dof_handler_, fe_.component_mask(
                                                                      FEValuesExtractors::Scalar(0)));
   ForceTorque ft;
-  for (const auto i : bd) {
+  for (const auto& [i, f] : f_nodal) {
     const unsigned int c = x_dofs.is_element(i) ? 0 : 1;
     const Vec2 arm = support.at(i) - centre;
-    // the medium's force on the body is minus the residual tested with a rigid motion
-    const double f = -r(i);
     (c == 0 ? ft.fx : ft.fy) += f;
     ft.torque += c == 0 ? -arm[1] * f : arm[0] * f;
   }
-  return ft;
+  const auto sum = sum_over_ranks({ft.fx, ft.fy, ft.torque}, comm_);
+  return {sum[0], sum[1], sum[2]};
 }
 
 ForceTorque FlowProblem::surface_integral(types::boundary_id id, const Point2& centre) const {
+  const VectorType state = ghosted(solution_);
   const QGauss<dim - 1> fquad(4);
   FEFaceValues<dim> ffv(mapping_, fe_, fquad,
                         update_values | update_gradients | update_quadrature_points |
@@ -706,13 +809,14 @@ ForceTorque FlowProblem::surface_integral(types::boundary_id id, const Point2& c
   std::vector<double> p(fquad.size());
   std::vector<Vec2> u(fquad.size());
   ForceTorque ft;
-  for (const auto& cell : dof_handler_.active_cell_iterators())
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
     for (const auto& face : cell->face_iterators()) {
       if (!face->at_boundary() || face->boundary_id() != id) continue;
       ffv.reinit(cell, face);
-      ffv[kVelocity].get_function_symmetric_gradients(solution_, sym);
-      ffv[kPressure].get_function_values(solution_, p);
-      ffv[kVelocity].get_function_values(solution_, u);
+      ffv[kVelocity].get_function_symmetric_gradients(state, sym);
+      ffv[kPressure].get_function_values(state, p);
+      ffv[kVelocity].get_function_values(state, u);
       for (unsigned int q = 0; q < fquad.size(); ++q) {
         const PointState s = make_state(sym[q], p[q], u[q]);
         const Vec2 n_body = -ffv.normal_vector(q);  // outward normal of the body
@@ -723,14 +827,17 @@ ForceTorque FlowProblem::surface_integral(types::boundary_id id, const Point2& c
         ft.torque += (arm[0] * t[1] - arm[1] * t[0]) * ffv.JxW(q);
       }
     }
-  return ft;
+  }
+  const auto sum = sum_over_ranks({ft.fx, ft.fy, ft.torque}, comm_);
+  return {sum[0], sum[1], sum[2]};
 }
 
 int FlowProblem::visit_boundary_at_angle(types::boundary_id id, const Point2& centre, double angle,
                                          UpdateFlags flags, const char* who,
                                          const std::function<void(const FEFaceValues<dim>&)>& visit) const {
   int found = 0;
-  for (const auto& cell : dof_handler_.active_cell_iterators())
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
     for (const auto& face : cell->face_iterators()) {
       if (!face->at_boundary() || face->boundary_id() != id) continue;
       const Vec2 v0 = face->vertex(0) - centre, v1 = face->vertex(1) - centre;
@@ -750,171 +857,272 @@ int FlowProblem::visit_boundary_at_angle(types::boundary_id id, const Point2& ce
         break;
       }
     }
-  if (found == 0)
+  }
+  if (Utilities::MPI::sum(found, comm_) == 0)
     throw std::runtime_error(std::string(who) + ": no boundary face at the requested angle");
-  return found;
+  return found;  // on this rank; the callers sum over the ranks
 }
 
 PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& centre, double angle,
                                        Vec2& normal_out_of_medium, Point2& where) const {
   // The stress is discontinuous across cells: a point on a vertex is shared by two faces, and
   // their states are averaged so that mirror-symmetric angles see mirror-symmetric values.
+  const VectorType state = ghosted(solution_);
   const UpdateFlags flags =
       update_values | update_gradients | update_quadrature_points | update_normal_vectors;
-  SymmetricTensor<2, dim> stress_sum;
-  Vec2 u_sum, n_sum;
-  Point2 x_sum;
-  double p_sum = 0, eta_sum = 0, I_sum = 0;
+  // the sums: stress (3), velocity (2), normal (2), point (2), p, eta, I, count
+  std::vector<double> sums(13, 0.0);
   std::vector<SymmetricTensor<2, dim>> sym(1);
   std::vector<double> p(1);
   std::vector<Vec2> u(1);
-  const int found =
-      visit_boundary_at_angle(id, centre, angle, flags, "boundary_state", [&](const FEFaceValues<dim>& ffv) {
-        ffv[kVelocity].get_function_symmetric_gradients(solution_, sym);
-        ffv[kPressure].get_function_values(solution_, p);
-        ffv[kVelocity].get_function_values(solution_, u);
-        const PointState st = make_state(sym[0], p[0], u[0]);
-        stress_sum += st.stress;
-        eta_sum += st.viscosity;
-        I_sum += st.inertial_number;
-        p_sum += p[0];
-        u_sum += u[0];
-        n_sum += ffv.normal_vector(0);
-        x_sum += Vec2(ffv.quadrature_point(0));
-      });
+  visit_boundary_at_angle(id, centre, angle, flags, "boundary_state", [&](const FEFaceValues<dim>& ffv) {
+    ffv[kVelocity].get_function_symmetric_gradients(state, sym);
+    ffv[kPressure].get_function_values(state, p);
+    ffv[kVelocity].get_function_values(state, u);
+    const PointState st = make_state(sym[0], p[0], u[0]);
+    const double v[13] = {st.stress[0][0], st.stress[0][1], st.stress[1][1], u[0][0], u[0][1],
+                          ffv.normal_vector(0)[0], ffv.normal_vector(0)[1],
+                          ffv.quadrature_point(0)[0], ffv.quadrature_point(0)[1], p[0],
+                          st.viscosity, st.inertial_number, 1.0};
+    for (unsigned int k = 0; k < 13; ++k) sums[k] += v[k];
+  });
+  sums = sum_over_ranks(sums, comm_);
+  const double found = sums[12];
+  const Vec2 n_sum({sums[5], sums[6]});
   normal_out_of_medium = n_sum / n_sum.norm();
-  where = x_sum / found;
+  where = Point2(sums[7] / found, sums[8] / found);
   PointState st;
-  st.velocity = u_sum / found;
-  st.pressure = p_sum / found;
-  st.viscosity = eta_sum / found;
-  st.inertial_number = I_sum / found;
-  st.stress = stress_sum / found;
+  st.velocity = Vec2({sums[3] / found, sums[4] / found});
+  st.pressure = sums[9] / found;
+  st.viscosity = sums[10] / found;
+  st.inertial_number = sums[11] / found;
+  st.stress[0][0] = sums[0] / found;
+  st.stress[0][1] = sums[1] / found;
+  st.stress[1][1] = sums[2] / found;
   return st;
 }
 
 Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centre,
                                       double angle) const {
-  if (traction_id_ != static_cast<int>(id) || traction_.size() != dof_handler_.n_dofs()) {
-    Vector<double> r;
-    assemble_impl(solution_, nullptr, false, r, true);
-    const IndexSet bd =
-        DoFTools::extract_boundary_dofs(dof_handler_, fe_.component_mask(kVelocity), {id});
-    std::map<types::global_dof_index, unsigned int> local;
-    for (const auto i : bd) local.emplace(i, static_cast<unsigned int>(local.size()));
-    const unsigned int nb = static_cast<unsigned int>(local.size());
-    // boundary mass matrix (vector-valued, so the two components decouple)
-    const QGauss<dim - 1> fquad(4);
-    FEFaceValues<dim> ffv(mapping_, fe_, fquad, update_values | update_JxW_values);
-    const unsigned int dpc = fe_.n_dofs_per_cell();
-    std::vector<types::global_dof_index> idx(dpc);
-    DynamicSparsityPattern dsp(nb);
-    for (const auto& cell : dof_handler_.active_cell_iterators())
-      for (const auto& face : cell->face_iterators()) {
-        if (!face->at_boundary() || face->boundary_id() != id) continue;
-        cell->get_dof_indices(idx);
-        for (unsigned int i = 0; i < dpc; ++i)
-          for (unsigned int j = 0; j < dpc; ++j)
-            if (local.count(idx[i]) && local.count(idx[j])) dsp.add(local[idx[i]], local[idx[j]]);
+  if (traction_id_ != static_cast<int>(id)) {
+    // the nodal reactions of all ranks (O(sqrt(N)) of them), in the order of the dofs
+    std::map<types::global_dof_index, double> reaction_all;
+    {
+      const auto mine = boundary_reaction(id);
+      std::vector<types::global_dof_index> keys;
+      std::vector<double> values;
+      for (const auto& [g, v] : mine) {
+        keys.push_back(g);
+        values.push_back(v);
       }
+      const auto all_keys = Utilities::MPI::all_gather(comm_, keys);
+      const auto all_values = Utilities::MPI::all_gather(comm_, values);
+      for (std::size_t r = 0; r < all_keys.size(); ++r)
+        for (std::size_t k = 0; k < all_keys[r].size(); ++k)
+          reaction_all.emplace(all_keys[r][k], all_values[r][k]);
+    }
+    std::map<types::global_dof_index, unsigned int> local;
+    for (const auto& [g, v] : reaction_all) local.emplace(g, static_cast<unsigned int>(local.size()));
+    const unsigned int nb = static_cast<unsigned int>(local.size());
+    // boundary mass matrix (vector-valued, so the two components decouple): the entries of
+    // this rank's faces, then of all ranks, assembled and solved on every rank (it is small)
+    std::vector<types::global_dof_index> rows, cols;
+    std::vector<double> entries;
+    {
+      const QGauss<dim - 1> fquad(4);
+      FEFaceValues<dim> ffv(mapping_, fe_, fquad, update_values | update_JxW_values);
+      const unsigned int dpc = fe_.n_dofs_per_cell();
+      std::vector<types::global_dof_index> idx(dpc);
+      for (const auto& cell : dof_handler_.active_cell_iterators()) {
+        if (!cell->is_locally_owned()) continue;
+        for (const auto& face : cell->face_iterators()) {
+          if (!face->at_boundary() || face->boundary_id() != id) continue;
+          ffv.reinit(cell, face);
+          cell->get_dof_indices(idx);
+          for (unsigned int q = 0; q < fquad.size(); ++q)
+            for (unsigned int i = 0; i < dpc; ++i) {
+              if (!local.count(idx[i])) continue;
+              for (unsigned int j = 0; j < dpc; ++j) {
+                if (!local.count(idx[j])) continue;
+                rows.push_back(idx[i]);
+                cols.push_back(idx[j]);
+                entries.push_back(ffv[kVelocity].value(i, q) * ffv[kVelocity].value(j, q) * ffv.JxW(q));
+              }
+            }
+        }
+      }
+    }
+    const auto all_rows = Utilities::MPI::all_gather(comm_, rows);
+    const auto all_cols = Utilities::MPI::all_gather(comm_, cols);
+    const auto all_entries = Utilities::MPI::all_gather(comm_, entries);
+    DynamicSparsityPattern dsp(nb);
+    for (std::size_t r = 0; r < all_rows.size(); ++r)
+      for (std::size_t k = 0; k < all_rows[r].size(); ++k)
+        dsp.add(local.at(all_rows[r][k]), local.at(all_cols[r][k]));
     SparsityPattern sp;
     sp.copy_from(dsp);
     SparseMatrix<double> mass(sp);
-    for (const auto& cell : dof_handler_.active_cell_iterators())
-      for (const auto& face : cell->face_iterators()) {
-        if (!face->at_boundary() || face->boundary_id() != id) continue;
-        ffv.reinit(cell, face);
-        cell->get_dof_indices(idx);
-        for (unsigned int q = 0; q < fquad.size(); ++q)
-          for (unsigned int i = 0; i < dpc; ++i) {
-            const auto li = local.find(idx[i]);
-            if (li == local.end()) continue;
-            for (unsigned int j = 0; j < dpc; ++j) {
-              const auto lj = local.find(idx[j]);
-              if (lj == local.end()) continue;
-              mass.add(li->second, lj->second,
-                       ffv[kVelocity].value(i, q) * ffv[kVelocity].value(j, q) * ffv.JxW(q));
-            }
-          }
-      }
+    for (std::size_t r = 0; r < all_rows.size(); ++r)
+      for (std::size_t k = 0; k < all_rows[r].size(); ++k)
+        mass.add(local.at(all_rows[r][k]), local.at(all_cols[r][k]), all_entries[r][k]);
     Vector<double> rhs(nb);
-    for (const auto& [g, l] : local) rhs(l) = -r(g);  // force of the medium on the body
+    for (const auto& [g, l] : local) rhs(l) = reaction_all.at(g);  // force of the medium on the body
     SparseDirectUMFPACK direct;
     direct.initialize(mass);
     direct.solve(rhs);
-    traction_.reinit(dof_handler_.n_dofs());
-    for (const auto& [g, l] : local) traction_(g) = rhs(l);
+    traction_.clear();
+    for (const auto& [g, l] : local) traction_.emplace(g, rhs(l));
     traction_id_ = static_cast<int>(id);
   }
   // evaluate t_h on the face(s) at the requested angle
-  Vec2 sum;
-  std::vector<Vec2> t(1);
-  const int found = visit_boundary_at_angle(id, centre, angle, update_values, "consistent_traction",
-                                            [&](const FEFaceValues<dim>& ffv) {
-                                              ffv[kVelocity].get_function_values(traction_, t);
-                                              sum += t[0];
-                                            });
-  return sum / found;
+  std::vector<double> sums(3, 0.0);  // t_x, t_y, count
+  const unsigned int dpc = fe_.n_dofs_per_cell();
+  std::vector<types::global_dof_index> idx(dpc);
+  visit_boundary_at_angle(id, centre, angle, update_values, "consistent_traction",
+                          [&](const FEFaceValues<dim>& ffv) {
+                            const DoFHandler<dim>::active_cell_iterator cell(
+                                &tria_, ffv.get_cell()->level(), ffv.get_cell()->index(), &dof_handler_);
+                            cell->get_dof_indices(idx);
+                            Vec2 t;
+                            for (unsigned int i = 0; i < dpc; ++i) {
+                              const auto it = traction_.find(idx[i]);
+                              if (it != traction_.end()) t += it->second * ffv[kVelocity].value(i, 0);
+                            }
+                            sums[0] += t[0];
+                            sums[1] += t[1];
+                            sums[2] += 1;
+                          });
+  sums = sum_over_ranks(sums, comm_);
+  return Vec2({sums[0] / sums[2], sums[1] / sums[2]});
 }
 
 bool FlowProblem::point_state(const Point2& x, PointState& out) const {
+  std::vector<char> found;
+  const auto states = point_states({x}, found);
+  out = states[0];
+  return found[0] != 0;
+}
+
+std::vector<PointState> FlowProblem::point_states(const std::vector<Point2>& points,
+                                                  std::vector<char>& found) const {
   if (!cache_) cache_ = std::make_unique<GridTools::Cache<dim>>(tria_, mapping_);
-  std::pair<Triangulation<dim>::active_cell_iterator, Point<dim>> found;
-  try {
-    found = GridTools::find_active_cell_around_point(*cache_, x);
-  } catch (...) {
-    return false;
-  }
-  if (found.first == tria_.end() || found.first.state() != IteratorState::valid) return false;
-  const DoFHandler<dim>::active_cell_iterator cell(&tria_, found.first->level(),
-                                                   found.first->index(), &dof_handler_);
-  const Quadrature<dim> q(GeometryInfo<dim>::project_to_unit_cell(found.second));
-  FEValues<dim> fv(mapping_, fe_, q, update_values | update_gradients);
-  fv.reinit(cell);
+  const VectorType state = ghosted(solution_);
+  const unsigned int me = Utilities::MPI::this_mpi_process(comm_), n_ranks = this->n_ranks();
+  const std::size_t n = points.size();
+  constexpr unsigned int kValues = 8;  // u (2), p, eta, I, stress (3)
+  std::vector<PointState> local(n);
+  std::vector<unsigned int> owner(n, n_ranks);  // lowest rank that found the point
   std::vector<SymmetricTensor<2, dim>> sym(1);
   std::vector<double> p(1);
   std::vector<Vec2> u(1);
-  fv[kVelocity].get_function_symmetric_gradients(solution_, sym);
-  fv[kPressure].get_function_values(solution_, p);
-  fv[kVelocity].get_function_values(solution_, u);
-  out = make_state(sym[0], p[0], u[0]);
-  return true;
+  const auto before = [](const Point<dim>& a, const Point<dim>& b) {
+    return a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]);
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    std::pair<Triangulation<dim>::active_cell_iterator, Point<dim>> cp;
+    try {
+      cp = GridTools::find_active_cell_around_point(*cache_, points[k]);
+    } catch (...) {
+      continue;
+    }
+    if (cp.first == tria_.end() || cp.first.state() != IteratorState::valid) continue;
+    // A point on a cell edge lies in several cells, where the stress differs: take the one
+    // whose centre comes first (x, then y), whatever the partition (all of them are ours or
+    // ghosts when the point is in one of ours), and evaluate on the rank that owns it.
+    const auto& vertex_to_cells = cache_->get_vertex_to_cell_map();
+    const auto first = cp.first;
+    for (const unsigned int v : first->vertex_indices())
+      for (const auto& c : vertex_to_cells[first->vertex_index(v)]) {
+        if (c->is_artificial() || !before(c->center(), cp.first->center())) continue;
+        try {
+          const Point<dim> xi = mapping_.transform_real_to_unit_cell(c, points[k]);
+          if (GeometryInfo<dim>::is_inside_unit_cell(xi, 1e-10)) cp = {c, xi};
+        } catch (const Mapping<dim>::ExcTransformationFailed&) {
+        }
+      }
+    if (!cp.first->is_locally_owned()) continue;
+    const DoFHandler<dim>::active_cell_iterator cell(&tria_, cp.first->level(), cp.first->index(),
+                                                     &dof_handler_);
+    const Quadrature<dim> q(GeometryInfo<dim>::project_to_unit_cell(cp.second));
+    FEValues<dim> fv(mapping_, fe_, q, update_values | update_gradients);
+    fv.reinit(cell);
+    fv[kVelocity].get_function_symmetric_gradients(state, sym);
+    fv[kPressure].get_function_values(state, p);
+    fv[kVelocity].get_function_values(state, u);
+    local[k] = make_state(sym[0], p[0], u[0]);
+    owner[k] = me;
+  }
+  found.assign(n, 0);
+  if (n_ranks == 1) {
+    for (std::size_t k = 0; k < n; ++k) found[k] = owner[k] == me;
+    return local;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, owner.data(), static_cast<int>(n), MPI_UNSIGNED, MPI_MIN, comm_);
+  std::vector<double> values(kValues * n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (owner[k] != me) continue;
+    const PointState& s = local[k];
+    const double v[kValues] = {s.velocity[0], s.velocity[1], s.pressure, s.viscosity,
+                               s.inertial_number, s.stress[0][0], s.stress[0][1], s.stress[1][1]};
+    std::copy(v, v + kValues, values.begin() + kValues * k);
+  }
+  values = sum_over_ranks(values, comm_);
+  std::vector<PointState> out(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    found[k] = owner[k] < n_ranks;
+    if (!found[k]) continue;
+    const double* v = values.data() + kValues * k;
+    out[k].velocity = Vec2({v[0], v[1]});
+    out[k].pressure = v[2];
+    out[k].viscosity = v[3];
+    out[k].inertial_number = v[4];
+    out[k].stress[0][0] = v[5];
+    out[k].stress[0][1] = v[6];
+    out[k].stress[1][1] = v[7];
+  }
+  return out;
 }
 
 std::array<double, 3> FlowProblem::errors(const VectorField& u_exact,
                                           const std::function<Tensor<2, dim>(const Point2&)>& grad_exact,
                                           const ScalarField& p_exact,
                                           bool remove_mean_pressure) const {
+  const VectorType state = ghosted(solution_);
   const QGauss<dim> quad(5);
   FEValues<dim> fev(mapping_, fe_, quad,
                     update_values | update_gradients | update_quadrature_points | update_JxW_values);
   std::vector<Vec2> u(quad.size());
   std::vector<Tensor<2, dim>> g(quad.size());
   std::vector<double> p(quad.size());
-  double eu = 0, eg = 0, ep = 0, ep1 = 0, area = 0;
+  std::vector<double> sums(5, 0.0);  // u, grad u, p errors squared, p error, area
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
     fev.reinit(cell);
-    fev[kVelocity].get_function_values(solution_, u);
-    fev[kVelocity].get_function_gradients(solution_, g);
-    fev[kPressure].get_function_values(solution_, p);
+    fev[kVelocity].get_function_values(state, u);
+    fev[kVelocity].get_function_gradients(state, g);
+    fev[kPressure].get_function_values(state, p);
     for (unsigned int q = 0; q < quad.size(); ++q) {
       const Point2& x = fev.quadrature_point(q);
       const double w = fev.JxW(q);
-      eu += (u[q] - u_exact(x)).norm_square() * w;
-      eg += (g[q] - grad_exact(x)).norm_square() * w;
+      sums[0] += (u[q] - u_exact(x)).norm_square() * w;
+      sums[1] += (g[q] - grad_exact(x)).norm_square() * w;
       const double e = p[q] - p_exact(x);
-      ep += e * e * w;
-      ep1 += e * w;
-      area += w;
+      sums[2] += e * e * w;
+      sums[3] += e * w;
+      sums[4] += w;
     }
   }
-  if (remove_mean_pressure) ep -= ep1 * ep1 / area;
-  return {std::sqrt(eu), std::sqrt(eg), std::sqrt(std::max(ep, 0.0))};
+  sums = sum_over_ranks(sums, comm_);
+  double ep = sums[2];
+  if (remove_mean_pressure) ep -= sums[3] * sums[3] / sums[4];
+  return {std::sqrt(sums[0]), std::sqrt(sums[1]), std::sqrt(std::max(ep, 0.0))};
 }
 
 void FlowProblem::output_results(const std::string& directory, const std::string& basename) const {
-  std::filesystem::create_directories(directory);
-  // cell averages of the viscosity and of the inertial number
+  if (Utilities::MPI::this_mpi_process(comm_) == 0) std::filesystem::create_directories(directory);
+  MPI_Barrier(comm_);
+  const VectorType state = ghosted(solution_);
+  // cell averages of the viscosity and of the inertial number (this rank's cells)
   Vector<float> eta(tria_.n_active_cells()), inertial(tria_.n_active_cells());
   {
     const QGauss<dim> quad(3);
@@ -926,9 +1134,10 @@ void FlowProblem::output_results(const std::string& directory, const std::string
     RheologyOutputs out;
     out.resize(quad.size());
     for (const auto& cell : dof_handler_.active_cell_iterators()) {
+      if (!cell->is_locally_owned()) continue;
       fev.reinit(cell);
-      fev[kVelocity].get_function_symmetric_gradients(solution_, sym);
-      fev[kPressure].get_function_values(solution_, p);
+      fev[kVelocity].get_function_symmetric_gradients(state, sym);
+      fev[kPressure].get_function_values(state, p);
       for (unsigned int q = 0; q < quad.size(); ++q) {
         in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);
         in.pressure[q] = p[q];
@@ -950,12 +1159,18 @@ void FlowProblem::output_results(const std::string& directory, const std::string
       DataComponentInterpretation::component_is_part_of_vector,
       DataComponentInterpretation::component_is_part_of_vector,
       DataComponentInterpretation::component_is_scalar};
-  data_out.add_data_vector(solution_, names, DataOut<dim>::type_dof_data, interp);
+  data_out.add_data_vector(state, names, DataOut<dim>::type_dof_data, interp);
   data_out.add_data_vector(eta, "viscosity", DataOut<dim>::type_cell_data);
   data_out.add_data_vector(inertial, "inertial_number", DataOut<dim>::type_cell_data);
   data_out.build_patches(mapping_, 2, DataOut<dim>::curved_inner_cells);
-  std::ofstream f(std::filesystem::path(directory) / (basename + ".vtu"));
-  data_out.write_vtu(f);
+  const std::string file = (std::filesystem::path(directory) / (basename + ".vtu")).string();
+  if (n_ranks() == 1) {
+    std::ofstream f(file);
+    data_out.write_vtu(f);
+  } else {
+    // one .vtu, each rank writing its cells' patches (MPI I/O)
+    data_out.write_vtu_in_parallel(file, comm_);
+  }
 }
 
 }  // namespace grainlift::continuum::internal

@@ -2,6 +2,9 @@
 // drivers. Steady incompressible generalised-Newtonian flow, Taylor-Hood Q2-Q1, Picard then
 // Newton with a backtracking line search; linear solves direct (UMFPACK) or FGMRES with a block
 // preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
+// The linear algebra is Trilinos' (MPI block vectors and matrices, velocity then pressure), so
+// the same code runs on a serial Triangulation (one rank) and on a distributed one (each rank
+// assembles its locally owned cells; the post-processing reduces over the ranks).
 // This header includes deal.II: never include it from a public header.
 #pragma once
 
@@ -15,10 +18,15 @@
 #include <deal.II/fe/mapping_q_cache.h>
 #include <deal.II/grid/grid_tools_cache.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/base/index_set.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/trilinos_block_sparse_matrix.h>
+#include <deal.II/lac/trilinos_parallel_block_vector.h>
 #include <deal.II/lac/vector.h>
+
+#include <mpi.h>
 
 #include <array>
 #include <functional>
@@ -38,6 +46,10 @@ using Point2 = dealii::Point<dim>;
 using Vec2 = dealii::Tensor<1, dim>;
 using VectorField = std::function<Vec2(const Point2&)>;
 using ScalarField = std::function<double(const Point2&)>;
+/// Solution, residual and update: block 0 the velocity, block 1 the pressure dofs (owned
+/// entries only; evaluations use a ghosted copy, see FlowProblem::ghosted()).
+using VectorType = dealii::TrilinosWrappers::MPI::BlockVector;
+using MatrixType = dealii::TrilinosWrappers::BlockSparseMatrix;
 
 /// Regularised Coulomb wall: u.n = 0 strongly, tangential traction on the medium
 /// -mu_w p+ s / sqrt(s^2 + eps^2) along the tangent, s the slip (u - u_wall).t.
@@ -111,16 +123,19 @@ class FlowProblem {
   void setup_system();
   /// Assemble the residual R(state) (constrained rows zero) and, if @p matrix, the Jacobian
   /// (@p newton) or the Picard matrix (eta frozen) into system_matrix.
-  double assemble_system(const dealii::Vector<double>& state, bool matrix, bool newton,
-                         dealii::Vector<double>& residual);
+  double assemble_system(const VectorType& state, bool matrix, bool newton, VectorType& residual);
   /// Solve system_matrix * update = -residual; update satisfies zero constraints. Direct
   /// (UMFPACK), or FGMRES to |K update + residual| <= @p relative_tolerance |residual| (amg).
   /// Returns the number of Krylov iterations (0 for the direct solver).
-  int solve(const dealii::Vector<double>& residual, dealii::Vector<double>& update,
-            double relative_tolerance = 1e-12);
+  /// Direct: UMFPACK on one rank (the matrix copied into a deal.II SparseMatrix), MUMPS
+  /// (Trilinos Amesos) on the whole matrix with more ranks.
+  int solve(const VectorType& residual, VectorType& update, double relative_tolerance = 1e-12);
+  /// <directory>/<basename>.vtu (one file; written with MPI I/O by all ranks together when
+  /// distributed). Collective.
   void output_results(const std::string& directory, const std::string& basename) const;
 
   // ---- post-processing
+  // All of these are collective (every rank calls them, every rank gets the global value).
   /// Force and torque (about @p centre) of the medium on the boundary @p id from the
   /// consistent reaction (unconstrained volume residual tested with rigid motions).
   ForceTorque reaction(dealii::types::boundary_id id, const Point2& centre) const;
@@ -136,6 +151,10 @@ class FlowProblem {
   Vec2 consistent_traction(dealii::types::boundary_id id, const Point2& centre, double angle) const;
   /// State at an arbitrary point; false when the point is not in the mesh.
   bool point_state(const Point2& x, PointState& out) const;
+  /// States at many points with one reduction: each point is evaluated by the lowest rank that
+  /// owns a cell containing it; found[k] = 0 when no cell contains points[k].
+  std::vector<PointState> point_states(const std::vector<Point2>& points,
+                                       std::vector<char>& found) const;
   /// L2 velocity, H1-seminorm velocity and L2 pressure errors against exact fields
   /// (pressure compared after removing the mean difference when @p remove_mean_pressure).
   std::array<double, 3> errors(const VectorField& u, const std::function<dealii::Tensor<2, dim>(const Point2&)>& grad_u,
@@ -143,21 +162,28 @@ class FlowProblem {
 
   // ---- access
   const dealii::DoFHandler<dim>& dof_handler() const { return dof_handler_; }
-  const dealii::Vector<double>& solution() const { return solution_; }
+  const VectorType& solution() const { return solution_; }
   /// Write access to the state; drops the cached consistent traction.
-  dealii::Vector<double>& solution() { traction_id_ = -1; return solution_; }
-  const dealii::SparseMatrix<double>& system_matrix() const { return system_matrix_; }
+  VectorType& solution() { traction_id_ = -1; return solution_; }
+  /// A zero vector with the layout of the solution (owned entries).
+  VectorType make_vector() const;
+  /// A copy of @p v with the ghost entries of this rank (for evaluations on its cells).
+  VectorType ghosted(const VectorType& v) const;
+  const MatrixType& system_matrix() const { return system_matrix_; }
   const dealii::AffineConstraints<double>& zero_constraints() const { return zero_constraints_; }
   const dealii::AffineConstraints<double>& nonzero_constraints() const { return nonzero_constraints_; }
   const NonlinearReport& report() const { return report_; }
   const dealii::Mapping<dim>& mapping() const { return mapping_; }
+  MPI_Comm communicator() const { return comm_; }
+  unsigned int n_ranks() const;
   void interpolate_initial_guess();
 
  private:
   /// Calls @p visit with face values at the boundary point of boundary @p id seen at
-  /// @p angle (rad) from @p centre: once, or twice when the angle falls on a vertex shared by
-  /// two faces. Returns the number of visits; throws when there is none (@p who names the
-  /// caller in the message).
+  /// @p angle (rad) from @p centre, on this rank's cells: once, or twice when the angle falls
+  /// on a vertex shared by two faces (possibly of two ranks). Returns the number of visits on
+  /// this rank (the callers sum over the ranks); throws on every rank when there is none on
+  /// any (@p who names the caller in the message). Collective.
   int visit_boundary_at_angle(dealii::types::boundary_id id, const Point2& centre, double angle,
                               dealii::UpdateFlags flags, const char* who,
                               const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
@@ -167,34 +193,43 @@ class FlowProblem {
   /// the volume terms, added without constraints (for the reaction forces).
   /// With @p schur_mass, also the pressure mass matrix weighted by 1/eta (the Schur
   /// complement approximation of the block preconditioner).
-  double assemble_impl(const dealii::Vector<double>& state, dealii::SparseMatrix<double>* matrix,
-                       bool newton, dealii::Vector<double>& residual, bool reaction_mode,
-                       dealii::SparseMatrix<double>* schur_mass = nullptr) const;
+  /// @p state must be ghosted (see ghosted()); @p residual is reinitialised (owned entries).
+  double assemble_impl(const VectorType& state, MatrixType* matrix, bool newton,
+                       VectorType& residual, bool reaction_mode,
+                       MatrixType* schur_mass = nullptr) const;
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
-  int solve_iterative(const dealii::Vector<double>& rhs, dealii::Vector<double>& x,
-                      double relative_tolerance);
+  int solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance);
+  /// Locally owned entries of the reaction -R (unconstrained volume residual) on the velocity
+  /// dofs of boundary @p id, gathered on every rank.
+  std::map<dealii::types::global_dof_index, double> boundary_reaction(dealii::types::boundary_id id) const;
   PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u) const;
   void log(const std::string& s) const { if (setup_.log) setup_.log(s); }
 
+  int mpi_ready_;  ///< MPI is initialised before any Trilinos member is built
   dealii::Triangulation<dim>& tria_;
+  MPI_Comm comm_;
   ProblemSetup setup_;
   dealii::FESystem<dim> fe_;
   dealii::MappingQCache<dim> mapping_;  ///< Q2 isoparametric, support points cached once
   dealii::DoFHandler<dim> dof_handler_;
   dealii::AffineConstraints<double> zero_constraints_, nonzero_constraints_;
-  dealii::SparsityPattern sparsity_;
-  dealii::SparseMatrix<double> system_matrix_;
-  dealii::Vector<double> solution_;
-  // ---- block preconditioner (LinearSolver::amg): dofs are numbered velocity first (n_u_ of
-  // them), then pressure; the (u,u) and (p,p) blocks are copied out of the full matrices
+  // dofs numbered velocity first (n_u_ of them), then pressure: two blocks
   dealii::types::global_dof_index n_u_ = 0;
-  dealii::SparseMatrix<double> schur_mass_;          ///< full size, only the (p,p) block is used
-  dealii::SparsityPattern sparsity_uu_, sparsity_pp_, sparsity_up_, sparsity_pu_, sparsity_s_;
-  dealii::SparseMatrix<double> block_uu_, block_pp_, block_up_, block_pu_, schur_bdb_;
+  std::vector<dealii::IndexSet> owned_, relevant_;  ///< per block
+  MatrixType system_matrix_;
+  VectorType solution_;
+  // ---- direct solver (one rank): the matrix copied into deal.II's format for UMFPACK
+  dealii::SparsityPattern direct_sparsity_;
+  dealii::SparseMatrix<double> direct_matrix_;
+  // ---- direct solver (more ranks): MUMPS on the whole matrix
+  dealii::TrilinosWrappers::SparseMatrix direct_distributed_;
+  // ---- block preconditioner (LinearSolver::amg)
+  MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;
   NonlinearReport report_;
   mutable std::unique_ptr<dealii::GridTools::Cache<dim>> cache_;
-  mutable dealii::Vector<double> traction_;  ///< nodal consistent traction (empty until needed)
+  /// nodal consistent traction on the boundary traction_id_ (velocity dofs of all ranks)
+  mutable std::map<dealii::types::global_dof_index, double> traction_;
   mutable int traction_id_ = -1;
 };
 

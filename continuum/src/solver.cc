@@ -2,6 +2,8 @@
 // FlowProblem engine. Conventions: docs/continuum-model.md (theta from V, counter-clockwise).
 #include "grainlift/continuum/solver.h"
 
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_values_extractors.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_refinement.h>
@@ -13,6 +15,7 @@
 
 #include <chrono>
 #include <deque>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -63,55 +66,92 @@ std::vector<double> padding_steps(double b, double pad) {
 /// is merged into a tensor grid whose cells grow geometrically (ratio 1.4) away from the block.
 /// Boundary ids: 0 x = -W, 1 x = W, 2 y = -H, 3 y = H, 4 the hole. After @p refinement global
 /// refinements the block is refined once more (the mesh is finest at the intruder).
-void make_intruder_mesh(Triangulation<2>& tria, double R, double W, double H, int refinement) {
-  const double b = std::min(2 * R, 0.5 * (R + std::min(W, H)));
-  const auto steps_along = [b](double half) {
-    const std::vector<double> pad = padding_steps(b, half - b);
-    std::vector<double> steps(pad.rbegin(), pad.rend());
-    steps.push_back(b);
-    steps.push_back(b);
-    steps.insert(steps.end(), pad.begin(), pad.end());
-    return steps;
-  };
-  Triangulation<2> outer, outer_holed, block;
-  GridGenerator::subdivided_hyper_rectangle(outer, {steps_along(W), steps_along(H)},
-                                            Point2(-W, -H), Point2(W, H), false);
-  std::set<Triangulation<2>::active_cell_iterator> central;
-  for (const auto& cell : outer.active_cell_iterators())
-    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b) central.insert(cell);
-  GridGenerator::create_triangulation_with_removed_cells(outer, central, outer_holed);
-  GridGenerator::hyper_cube_with_cylindrical_hole(block, R, b, 1.0, 1, false);
-  GridGenerator::merge_triangulations(outer_holed, block, tria, 1e-9 * R);
-
-  tria.reset_all_manifolds();
-  tria.set_all_manifold_ids(numbers::flat_manifold_id);
-  const double tol = 1e-6 * R;
-  for (const auto& cell : tria.active_cell_iterators()) {
-    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b)
-      cell->set_all_manifold_ids(1);
-  }
-  for (const auto& cell : tria.active_cell_iterators())
-    for (const auto& face : cell->face_iterators()) {
-      if (!face->at_boundary()) continue;
-      const Point2 c = face->center();
-      if (std::abs(face->vertex(0).norm() - R) < tol && std::abs(face->vertex(1).norm() - R) < tol) {
-        face->set_boundary_id(kHole);
-        face->set_manifold_id(0);
-      } else if (std::abs(c[0] + W) < tol) face->set_boundary_id(kLeft);
-      else if (std::abs(c[0] - W) < tol) face->set_boundary_id(kRight);
-      else if (std::abs(c[1] + H) < tol) face->set_boundary_id(kBottom);
-      else face->set_boundary_id(kTop);
+///
+/// One MPI rank: a serial Triangulation. Several: a parallel::distributed::Triangulation (p4est)
+/// made from the vertices and cells of the same coarse mesh; the ids and the manifolds are then
+/// set on the distributed mesh itself, whose coarse mesh every rank holds whole, so the
+/// transfinite interpolation is initialised on exactly the serial coarse cells. (Copying the
+/// decorated serial mesh with copy_triangulation instead made TransfiniteInterpolationManifold::
+/// initialize() throw ExcTransformationFailed in an earlier attempt.) The refinement is the
+/// same on both; a rank flags only its own cells.
+class IntruderMesh {
+ public:
+  IntruderMesh(double R, double W, double H, int refinement) : R_(R), W_(W), H_(H) {
+    b_ = std::min(2 * R, 0.5 * (R + std::min(W, H)));
+    if (MpiSession::size() == 1) {  // (MPI may not even be initialised)
+      tria_ = std::make_unique<Triangulation<2>>();
+      make_coarse(*tria_);
+    } else {
+      Triangulation<2> coarse;
+      make_coarse(coarse);
+      std::vector<CellData<2>> cells(coarse.n_cells(0));
+      for (const auto& cell : coarse.cell_iterators_on_level(0))
+        for (const unsigned int v : cell->vertex_indices())
+          cells[cell->index()].vertices[v] = cell->vertex_index(v);
+      tria_ = std::make_unique<parallel::distributed::Triangulation<2>>(MPI_COMM_WORLD);
+      tria_->create_triangulation(coarse.get_vertices(), cells, SubCellData());
     }
-  tria.set_manifold(0, PolarManifold<2>(Point2()));
-  TransfiniteInterpolationManifold<2> tfi;
-  tfi.initialize(tria);
-  tria.set_manifold(1, tfi);
+    decorate(*tria_);
+    tria_->refine_global(refinement);
+    for (const auto& cell : tria_->active_cell_iterators())
+      if (cell->is_locally_owned() && in_block(cell->center())) cell->set_refine_flag();
+    tria_->execute_coarsening_and_refinement();
+  }
+  Triangulation<2>& tria() { return *tria_; }
 
-  tria.refine_global(refinement);
-  for (const auto& cell : tria.active_cell_iterators())
-    if (std::abs(cell->center()[0]) < b && std::abs(cell->center()[1]) < b) cell->set_refine_flag();
-  tria.execute_coarsening_and_refinement();
-}
+ private:
+  bool in_block(const Point2& x) const { return std::abs(x[0]) < b_ && std::abs(x[1]) < b_; }
+
+  void make_coarse(Triangulation<2>& tria) const {
+    const double W = W_, H = H_;
+    const double b = b_;
+    const auto steps_along = [b](double half) {
+      const std::vector<double> pad = padding_steps(b, half - b);
+      std::vector<double> steps(pad.rbegin(), pad.rend());
+      steps.push_back(b);
+      steps.push_back(b);
+      steps.insert(steps.end(), pad.begin(), pad.end());
+      return steps;
+    };
+    Triangulation<2> outer, outer_holed, block;
+    GridGenerator::subdivided_hyper_rectangle(outer, {steps_along(W), steps_along(H)},
+                                              Point2(-W, -H), Point2(W, H), false);
+    std::set<Triangulation<2>::active_cell_iterator> central;
+    for (const auto& cell : outer.active_cell_iterators())
+      if (in_block(cell->center())) central.insert(cell);
+    GridGenerator::create_triangulation_with_removed_cells(outer, central, outer_holed);
+    GridGenerator::hyper_cube_with_cylindrical_hole(block, R_, b, 1.0, 1, false);
+    GridGenerator::merge_triangulations(outer_holed, block, tria, 1e-9 * R_);
+  }
+
+  /// Boundary and manifold ids, the polar and transfinite-interpolation manifolds.
+  void decorate(Triangulation<2>& tria) const {
+    tria.reset_all_manifolds();
+    tria.set_all_manifold_ids(numbers::flat_manifold_id);
+    const double tol = 1e-6 * R_;
+    for (const auto& cell : tria.active_cell_iterators())
+      if (in_block(cell->center())) cell->set_all_manifold_ids(1);
+    for (const auto& cell : tria.active_cell_iterators())
+      for (const auto& face : cell->face_iterators()) {
+        if (!face->at_boundary()) continue;
+        const Point2 c = face->center();
+        if (std::abs(face->vertex(0).norm() - R_) < tol && std::abs(face->vertex(1).norm() - R_) < tol) {
+          face->set_boundary_id(kHole);
+          face->set_manifold_id(0);
+        } else if (std::abs(c[0] + W_) < tol) face->set_boundary_id(kLeft);
+        else if (std::abs(c[0] - W_) < tol) face->set_boundary_id(kRight);
+        else if (std::abs(c[1] + H_) < tol) face->set_boundary_id(kBottom);
+        else face->set_boundary_id(kTop);
+      }
+    tria.set_manifold(0, PolarManifold<2>(Point2()));
+    TransfiniteInterpolationManifold<2> tfi;
+    tfi.initialize(tria);
+    tria.set_manifold(1, tfi);
+  }
+
+  double R_, W_, H_, b_ = 0;
+  std::unique_ptr<Triangulation<2>> tria_;
+};
 
 }  // namespace
 
@@ -163,11 +203,15 @@ void validate_config(const ContinuumConfig& c) {
 ContinuumOutput solve_flow(const ContinuumConfig& c,
                            const std::function<void(const std::string&)>& log) {
   validate_config(c);
-  // Each rank would run the whole serial problem and write the same files.
-  require(MpiSession::size() == 1,
-          "runs on one MPI process only (started as one of " + std::to_string(MpiSession::size()) +
-              " ranks): the distributed solve (parallel::distributed::Triangulation) is not "
-              "implemented yet; run without mpirun");
+  // what the distributed solve (more than one MPI rank) does not support yet; every rank
+  // throws, before anything is solved or written
+  const int ranks = MpiSession::size();
+  if (ranks > 1) {
+    const std::string started = " (started as one of " + std::to_string(ranks) + " MPI ranks)";
+    require(c.adaptive_cycles == 0,
+            "continuum.adaptive_cycles > 0 runs on one MPI process only" + started +
+                ": set continuum.adaptive_cycles = 0 or run without mpirun");
+  }
   const auto say = [&log](const std::string& s) { if (log) log(s); };
   ContinuumOutput out;
   try {
@@ -178,9 +222,9 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const double speed = V.norm();
     const double vref = std::max(speed, std::abs(omega) * R);
 
-    // ---- mesh (see make_intruder_mesh)
-    Triangulation<internal::dim> tria;
-    make_intruder_mesh(tria, R, W, H, c.refinement);
+    // ---- mesh (see IntruderMesh)
+    IntruderMesh mesh(R, W, H, c.refinement);
+    Triangulation<internal::dim>& tria = mesh.tria();
 
     // ---- physics
     MuIRheology rheology(c.rheology);
@@ -286,7 +330,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
              << " 1/s";
         }
         say(os.str());
-        const Vector<double> saved = problem.solution();
+        const internal::VectorType saved = problem.solution();
         problem.solve_nonlinear(nl);
         ++stage_number;
         if (!problem.report().converged && done_delta > 0 && splits < kMaxSplits) {
@@ -314,11 +358,11 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       const FEValuesExtractors::Vector velocity(0);
       KellyErrorEstimator<internal::dim>::estimate(
           problem.mapping(), problem.dof_handler(), QGauss<internal::dim - 1>(3), {},
-          problem.solution(), indicator,
+          problem.ghosted(problem.solution()), indicator,
           problem.dof_handler().get_fe().component_mask(velocity));
       GridRefinement::refine_and_coarsen_fixed_number(tria, indicator, 0.3, 0.0);
-      SolutionTransfer<internal::dim> transfer(problem.dof_handler());
-      const Vector<double> old_solution = problem.solution();
+      SolutionTransfer<internal::dim, internal::VectorType> transfer(problem.dof_handler());
+      const internal::VectorType old_solution = problem.solution();
       tria.prepare_coarsening_and_refinement();
       transfer.prepare_for_coarsening_and_refinement(old_solution);
       tria.execute_coarsening_and_refinement();
@@ -341,7 +385,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.continuation_splits = splits;
     // ---- linearised gravity: one Newton step from the base state of the problem with gravity
     std::unique_ptr<FlowProblem> corrected;
-    Vector<double> du;  // the first-order correction (linearised gravity)
+    internal::VectorType du;  // the first-order correction (linearised gravity)
     if (linearised) {
       say("continuum: first-order gravity correction (one linear solve at the base state)");
       const auto t0 = std::chrono::steady_clock::now();
@@ -349,7 +393,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       corrected->set_viscosity(&rheology);
       corrected->setup_system();
       corrected->solution() = problem.solution();
-      Vector<double> residual;
+      internal::VectorType residual;
       corrected->assemble_system(corrected->solution(), true, true, residual);
       corrected->solve(residual, du);
       std::ostringstream os;
@@ -370,7 +414,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.krylov_iterations = rep.krylov_iterations;
     out.initial_residual = rep.initial_residual;
     out.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
-    out.cells = static_cast<int>(tria.n_active_cells());
+    out.cells = static_cast<int>(tria.n_global_active_cells());
     out.dofs = static_cast<int>(problem.dof_handler().n_dofs());
 
     // ---- forces (consistent reaction on the hole; surface integral as a diagnostic) and the
@@ -403,7 +447,7 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       // First order throughout: the outputs are linear functionals of the residual, so they
       // are taken as S(u_0; g) + dS/du . du, the derivative by a central difference along du
       // (exact for the linear gravity terms; O(h^2) for the rheology, h = 1e-4).
-      const Vector<double> u0 = problem.solution();
+      const internal::VectorType u0 = problem.solution();
       constexpr double h = 1e-4;
       const auto at = [&](double t) {
         corrected->solution() = u0;
@@ -437,22 +481,31 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       const std::size_t n = static_cast<std::size_t>(c.fields.nx) * c.fields.ny;
       const double nan = std::numeric_limits<double>::quiet_NaN();
       for (auto* v : {&out.vx, &out.vy, &out.pressure, &out.sxx, &out.sxy, &out.syy}) v->assign(n, nan);
-      internal::PointState st;
+      // bin (i, j) has its lower-left corner at (x0 + i h, y0 + j h), as in the DEM; the
+      // fields are the point values at the bin centres (evaluated together: one reduction)
+      std::vector<Point2> points;
+      std::vector<std::size_t> where;
       for (int j = 0; j < c.fields.ny; ++j)
         for (int i = 0; i < c.fields.nx; ++i) {
-          // bin (i, j) has its lower-left corner at (x0 + i h, y0 + j h), as in the DEM; the
-          // fields are the point values at the bin centres
           const Point2 x(c.fields.x0 + (i + 0.5) * c.fields.spacing,
                          c.fields.y0 + (j + 0.5) * c.fields.spacing);
-          if (x.norm() < R || !post.point_state(x, st)) continue;
-          const std::size_t k = static_cast<std::size_t>(j) * c.fields.nx + i;
-          out.vx[k] = st.velocity[0];
-          out.vy[k] = st.velocity[1];
-          out.pressure[k] = st.pressure;
-          out.sxx[k] = st.stress[0][0];
-          out.sxy[k] = st.stress[0][1];
-          out.syy[k] = st.stress[1][1];
+          if (x.norm() < R) continue;
+          points.push_back(x);
+          where.push_back(static_cast<std::size_t>(j) * c.fields.nx + i);
         }
+      std::vector<char> found;
+      const auto states = post.point_states(points, found);
+      for (std::size_t m = 0; m < points.size(); ++m) {
+        if (!found[m]) continue;
+        const internal::PointState& st = states[m];
+        const std::size_t k = where[m];
+        out.vx[k] = st.velocity[0];
+        out.vy[k] = st.velocity[1];
+        out.pressure[k] = st.pressure;
+        out.sxx[k] = st.stress[0][0];
+        out.sxy[k] = st.stress[0][1];
+        out.syy[k] = st.stress[1][1];
+      }
     }
     if (!c.vtu_directory.empty()) post.output_results(c.vtu_directory, "continuum");
   } catch (const ConfigError&) {

@@ -212,10 +212,10 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
   FlowProblem problem(tria, setup);
   problem.setup_system();
   problem.interpolate_initial_guess();
-  const Vector<double> x0 = problem.solution();
+  const internal::VectorType x0 = problem.solution();
   const auto n = x0.size();
   // deterministic pseudo-random direction satisfying the homogeneous constraints
-  Vector<double> dir(n);
+  internal::VectorType dir = problem.make_vector();
   unsigned long long seed = 12345;
   for (unsigned int i = 0; i < n; ++i) {
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -223,7 +223,7 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
   }
   problem.zero_constraints().distribute(dir);
 
-  Vector<double> r(n), rp(n), rm(n), jd(n), xs(n);
+  internal::VectorType r = problem.make_vector(), rp = r, rm = r, jd = r, xs = r;
   problem.assemble_system(x0, true, true, r);
   problem.system_matrix().vmult(jd, dir);
   const double h = 1e-6;

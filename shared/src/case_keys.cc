@@ -147,14 +147,16 @@ std::vector<KeySpec> make_keys() {
                       "see docs/continuum-model.md)"));
   k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
                       "adaptive refinement cycles after the first solve: each refines the 30% "
-                      "of the cells with the largest Kelly indicator of the velocity"));
+                      "of the cells with the largest Kelly indicator of the velocity (one MPI "
+                      "process only)"));
   k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));
   k.push_back(integer("continuum.picard_iterations", "5", 0, 1000, "Picard warm-up steps"));
   k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct", "amg"},
-                     "direct (UMFPACK) or amg (FGMRES, block preconditioner with Trilinos AMG "
-                     "on the velocity block and a 1/eta-weighted pressure mass matrix)"));
+                     "direct (UMFPACK; MUMPS under mpirun) or amg (FGMRES, block preconditioner "
+                     "with Trilinos AMG on the velocity block and a 1/eta-weighted pressure mass "
+                     "matrix)"));
   // [output]
   k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
   k.push_back(real("output.kernel_width_deg", false, "8.0", 0, 90, true, false, "deg",

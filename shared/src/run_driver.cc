@@ -101,7 +101,7 @@ void write_summary(const std::string& out_dir, const std::string& case_hash) {
 
 std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
                                    const RunOptions& options) {
-  make_directories(options.out_dir);
+  if (options.writer) make_directories(options.out_dir);
   std::vector<RunResult> results;
   for (const auto& solver : solvers) {
     ProgressReporter progress(solver.name, options.progress);
@@ -112,7 +112,7 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
     } catch (...) {
       // The solvers that finished keep their files; the summary lists them before the
       // failure propagates (exit code 1 or 2).
-      if (!results.empty()) write_summary(options.out_dir, c.source.hash);
+      if (!results.empty() && options.writer) write_summary(options.out_dir, c.source.hash);
       throw;
     }
     r.meta.solver = solver.name;
@@ -128,13 +128,15 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
     r.meta.case_overrides = overrides;
     r.meta.case_hash = c.source.hash;
     r.meta.case_path = c.source.path;
-    const std::string h5 = options.out_dir + "/" + solver.name + ".h5";
-    write_result(h5, r);
-    write_fields_xdmf(options.out_dir + "/" + solver.name + "_fields.xmf", solver.name + ".h5", r);
+    if (options.writer) {
+      const std::string h5 = options.out_dir + "/" + solver.name + ".h5";
+      write_result(h5, r);
+      write_fields_xdmf(options.out_dir + "/" + solver.name + "_fields.xmf", solver.name + ".h5", r);
+    }
     progress.finish();
     results.push_back(std::move(r));
   }
-  write_summary(options.out_dir, c.source.hash);
+  if (options.writer) write_summary(options.out_dir, c.source.hash);
   return results;
 }
 

@@ -17,6 +17,8 @@ struct RunOptions {
   std::string out_dir = "out";
   int threads = 1;
   bool progress = true;
+  /// false on the MPI ranks other than 0 of a distributed run: they solve but write nothing
+  bool writer = true;
 };
 
 /// A solver that can be asked for by name on the command line.
