@@ -6,7 +6,9 @@
 #
 #   bench/compare_lammps.sh [build dir (build-dem)] [beds ("dense dilute jammed")] [threads ("1 2")]
 #
-# Environment: STEPS (timed steps, default 2000), REPS (repetitions of every run,
+# Environment: PAUSE (seconds of sleep before every timed run, default 1), OMP_PROC_BIND and
+# OMP_PLACES (default true and cores),
+# STEPS (timed steps, default 2000), REPS (repetitions of every run,
 # default 1; medians are printed), WORK (data files, default /tmp/grainlift_lammps),
 # SAME_STEPS (default 1: grainlift times the same STEPS steps after the same 500 warm-up
 # steps as LAMMPS, GRAINLIFT_BENCH_STEPS; 0: grainlift runs its 100-step iterations for at
@@ -26,6 +28,10 @@ REPS=${REPS:-1}
 WORK=${WORK:-/tmp/grainlift_lammps}
 HERE=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$WORK"
+# grainlift's threads bound one per core, as LAMMPS's ranks are (mpirun --bind-to core): left
+# to the scheduler, about one short two-thread run in two started with both threads on one
+# core and stayed there (half the rate for the whole run; docs/performance.md)
+export OMP_PROC_BIND=${OMP_PROC_BIND:-true} OMP_PLACES=${OMP_PLACES:-cores}
 if [[ ${SAME_STEPS:-1} == 1 ]]; then export GRAINLIFT_BENCH_STEPS=$STEPS; else unset GRAINLIFT_BENCH_STEPS; fi
 
 declare -A BM=([dense]=BM_DenseBed [dilute]=BM_DiluteBed [jammed]=BM_JammedBed)
@@ -43,6 +49,7 @@ for bed in $BEDS; do
   for t in $THREADS; do
     gw=() gc=() lw=() lc=()
     for ((r = 0; r < REPS; ++r)); do
+      sleep "${PAUSE:-1}"
       json=$("$BUILD/bin/dem_throughput" --benchmark_filter="^${BM[$bed]}/$t/" --benchmark_format=json 2>/dev/null)
       read -r w c < <(python3 -c '
 import json, sys
@@ -50,6 +57,7 @@ b = json.load(sys.stdin)["benchmarks"][0]
 g = b["grains"]
 print(g * 100 / (b["real_time"] * 1e-3), g * 100 / (b["cpu_time"] * 1e-3))' <<<"$json")
       gw+=("$w") gc+=("$c")
+      sleep "${PAUSE:-1}"
       if [[ $t == 1 ]]; then
         out=$(cd "$WORK" && lmp -log none -in "$HERE/lammps/bed.in" -var data "$data" -var steps "$STEPS")
       else
