@@ -1,9 +1,14 @@
-// The two beds of the throughput benchmark, shared by dem_throughput and the LAMMPS export.
+// The beds of the throughput benchmark, shared by dem_throughput, dem_state_hash and the LAMMPS
+// export, and the engine set up on one of them.
 #pragma once
 
 #include <cstdlib>
+#include <memory>
+#include <vector>
 
 #include "grainlift/dem/dem_config.h"
+#include "grainlift/dem/dem_system.h"
+#include "grainlift/dem/packing.h"
 
 namespace grainlift::bench {
 
@@ -30,6 +35,30 @@ inline dem::DemConfig bed_config(double phi) {
   const char* dir = std::getenv("GRAINLIFT_BENCH_CACHE");
   c.packing_cache_dir = dir ? dir : "/tmp/grainlift_bench_cache";
   return c;
+}
+
+/// The engine on the prepared bed @p b of configuration @p c, as run_simulation sets it up with
+/// fields off (no per-pair force store), on @p threads threads; not yet advanced.
+inline std::unique_ptr<dem::DemSystem> bench_system(const dem::DemConfig& c, const dem::PackedBed& b,
+                                                    int threads) {
+  constexpr double kPi = 3.14159265358979323846;
+  dem::SystemOptions o;
+  o.box = {c.xmin, c.xmax, c.ymin, c.ymax, c.periodic_x, c.periodic_y};
+  o.contact = c.contact;
+  o.dt = c.dt;
+  o.threads = threads;
+  auto s = std::make_unique<dem::DemSystem>(o);
+  std::vector<dem::Disk> grains(b.r.size());
+  for (std::size_t n = 0; n < b.r.size(); ++n) {
+    grains[n].x = b.x[n];
+    grains[n].y = b.y[n];
+    grains[n].r = b.r[n];
+    grains[n].mass = c.density * kPi * b.r[n] * b.r[n];
+  }
+  s->set_bodies(grains, dem::make_wall_disks(c));
+  s->set_store_pair_forces(false);
+  s->set_intruder(0, 0, 0.5 * c.intruder_diameter, c.intruder_velocity[0], 0, c.intruder_omega, 0);
+  return s;
 }
 
 }  // namespace grainlift::bench

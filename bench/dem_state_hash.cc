@@ -34,25 +34,10 @@ struct Fnv {
 };
 
 std::uint64_t run(double phi, int threads, long long steps) {
-  constexpr double kPi = 3.14159265358979323846;
   gd::DemConfig c = grainlift::bench::bed_config(phi);
   const gd::PackedBed b = gd::prepare_packing(c);
-  gd::SystemOptions o;
-  o.box = {c.xmin, c.xmax, c.ymin, c.ymax, c.periodic_x, c.periodic_y};
-  o.contact = c.contact;
-  o.dt = c.dt;
-  o.threads = threads;
-  gd::DemSystem s(o);
-  std::vector<gd::Disk> grains(b.r.size());
-  for (std::size_t n = 0; n < b.r.size(); ++n) {
-    grains[n].x = b.x[n];
-    grains[n].y = b.y[n];
-    grains[n].r = b.r[n];
-    grains[n].mass = c.density * kPi * b.r[n] * b.r[n];
-  }
-  s.set_bodies(grains, gd::make_wall_disks(c));
-  s.set_store_pair_forces(false);
-  s.set_intruder(0, 0, 0.5 * c.intruder_diameter, c.intruder_velocity[0], 0, c.intruder_omega, 0);
+  const auto sys = grainlift::bench::bench_system(c, b, threads);
+  gd::DemSystem& s = *sys;
   Fnv f;
   // single steps, then advance() in blocks (the fused path), intruder samples on the way
   long long done = 0;

@@ -23,8 +23,6 @@ namespace gd = grainlift::dem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 using grainlift::bench::bed_config;
 
 const gd::PackedBed& bed(double phi) {
@@ -37,22 +35,8 @@ const gd::PackedBed& bed(double phi) {
 void run_bed(benchmark::State& state, double phi) {
   gd::DemConfig c = bed_config(phi);
   const gd::PackedBed& b = bed(phi);
-  gd::SystemOptions o;
-  o.box = {c.xmin, c.xmax, c.ymin, c.ymax, c.periodic_x, c.periodic_y};
-  o.contact = c.contact;
-  o.dt = c.dt;
-  o.threads = static_cast<int>(state.range(0));
-  gd::DemSystem s(o);
-  std::vector<gd::Disk> grains(b.r.size());
-  for (std::size_t n = 0; n < b.r.size(); ++n) {
-    grains[n].x = b.x[n];
-    grains[n].y = b.y[n];
-    grains[n].r = b.r[n];
-    grains[n].mass = c.density * kPi * b.r[n] * b.r[n];
-  }
-  s.set_bodies(grains, gd::make_wall_disks(c));
-  s.set_store_pair_forces(false);  // as run_simulation with fields off
-  s.set_intruder(0, 0, 0.5 * c.intruder_diameter, c.intruder_velocity[0], 0, c.intruder_omega, 0);
+  const auto sys = grainlift::bench::bench_system(c, b, static_cast<int>(state.range(0)));
+  gd::DemSystem& s = *sys;
   s.advance(500);  // warm-up: lists built, intruder in contact
   const int builds0 = s.list_builds();
   const int steps_per_iteration = 100;

@@ -734,6 +734,15 @@ double DemSystem::current_max_overlap_fraction() const {
   return worst;
 }
 
+double DemSystem::drift_item(int c, double& idisp) {
+  if (c == 0) {
+    idisp = drift_intruder();
+    return 0;
+  }
+  const int lo = (c - 1) * kChunkRows;
+  return drift_rows(lo, std::min(n_grains_, lo + kChunkRows));
+}
+
 long long DemSystem::run_segment(long long m) {
   const int team = team_;
   const int nchunks = chunks();
@@ -764,14 +773,7 @@ long long DemSystem::run_segment(long long m) {
     };
     double d2 = 0;
     if (!was_drifted) {
-      for (int c; (c = take()) < items;) {
-        if (c == 0) {
-          idisp = drift_intruder();
-        } else {
-          const int lo = (c - 1) * rows_per_chunk;
-          d2 = std::max(d2, drift_rows(lo, std::min(ng, lo + rows_per_chunk)));
-        }
-      }
+      for (int c; (c = take()) < items;) d2 = std::max(d2, drift_item(c, idisp));
     }
     slot[t].d2 = d2;
     for (long long k = 0;;) {
@@ -888,14 +890,8 @@ long long DemSystem::run_segment_team(long long m) {
     const int t = omp_get_thread_num();
     double d2 = 0;
     if (!was_drifted) {
-      for (int c; (c = init_next.fetch_add(1, std::memory_order_relaxed)) < per_phase;) {
-        if (c == 0) {
-          idisp = drift_intruder();
-        } else {
-          const int lo = (c - 1) * rows_per_chunk;
-          d2 = std::max(d2, drift_rows(lo, std::min(ng, lo + rows_per_chunk)));
-        }
-      }
+      for (int c; (c = init_next.fetch_add(1, std::memory_order_relaxed)) < per_phase;)
+        d2 = std::max(d2, drift_item(c, idisp));
     }
     slot[t].d2 = d2;
     barrier.wait([] {});

@@ -171,6 +171,9 @@ class DemSystem {
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
   double drift_intruder();
+  /// Work item @p c of the drift that opens a segment: 0 the intruder (its displacement into
+  /// @p idisp; returns 0), 1 + k the rows of chunk k (returns their largest squared displacement).
+  double drift_item(int c, double& idisp);
   /// Runs up to m steps in one parallel region; stops early (state drifted) when the lists
   /// need a rebuild. Returns the steps completed.
   long long run_segment(long long m);
