@@ -9,6 +9,7 @@
 #include "grainlift/dem/dem_config.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/packing.h"
+#include "dem_beds.h"
 
 namespace grainlift::bench {
 
@@ -18,17 +19,8 @@ namespace grainlift::bench {
 /// (~26,000 disks); dilute: 260 d x 200 d at Phi 0.35 (~23,000 disks); jammed: 180 d x 140 d
 /// at Phi 0.86 (~27,000 disks, compressed above jamming: about two contacts per grain).
 inline dem::DemConfig bed_config(double phi) {
-  dem::DemConfig c;
+  dem::DemConfig c = test_support::walled_bed(phi > 0.5 ? 180 : 260, phi > 0.5 ? 140 : 200, phi);
   const double d = c.grain_diameter;
-  const double w = phi > 0.5 ? 180 : 260, h = phi > 0.5 ? 140 : 200;
-  c.xmin = -0.5 * w * d;
-  c.xmax = 0.5 * w * d;
-  c.ymin = -0.5 * h * d;
-  c.ymax = 0.5 * h * d;
-  c.wall_bottom = c.wall_top = true;
-  c.area_fraction = phi;
-  c.intruder_diameter = 5 * d;
-  c.intruder_velocity = {1.0, 0.0};
   c.intruder_omega = 2.0 / (2.5 * d);
   c.dt = 2e-6;
   c.threads = 1;  // packing preparation; the benchmark sets its own thread count

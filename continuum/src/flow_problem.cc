@@ -155,38 +155,22 @@ class BlockTriangularPreconditioner {
   mutable TrilinosWrappers::MPI::Vector xu_;
 };
 
-/// D K D for a diagonal D (the vector @p d).
-class ScaledMatrix {
+/// E X E for an operator X (vmult) and a diagonal E (the vector @p e): with E = D the scaled
+/// system D K D, with E = D^{-1} its preconditioner D^{-1} P^{-1} D^{-1}.
+template <class Operator>
+class DiagonallyScaled {
  public:
-  ScaledMatrix(const MatrixType& K, const VectorType& d) : K_(K), d_(d), t_(d) {}
+  DiagonallyScaled(const Operator& X, const VectorType& e) : X_(X), e_(e), t_(e) {}
   void vmult(VectorType& dst, const VectorType& src) const {
     t_ = src;
-    t_.scale(d_);
-    K_.vmult(dst, t_);
-    dst.scale(d_);
+    t_.scale(e_);
+    X_.vmult(dst, t_);
+    dst.scale(e_);
   }
 
  private:
-  const MatrixType& K_;
-  const VectorType& d_;
-  mutable VectorType t_;
-};
-
-/// D^{-1} P^{-1} D^{-1}: the preconditioner of K carried over to D K D (@p d_inverse = D^{-1}).
-class ScaledPreconditioner {
- public:
-  ScaledPreconditioner(const BlockTriangularPreconditioner& P, const VectorType& d_inverse)
-      : P_(P), d_inverse_(d_inverse), t_(d_inverse) {}
-  void vmult(VectorType& dst, const VectorType& src) const {
-    t_ = src;
-    t_.scale(d_inverse_);
-    P_.vmult(dst, t_);
-    dst.scale(d_inverse_);
-  }
-
- private:
-  const BlockTriangularPreconditioner& P_;
-  const VectorType& d_inverse_;
+  const Operator& X_;
+  const VectorType& e_;
   mutable VectorType t_;
 };
 
@@ -611,8 +595,8 @@ int FlowProblem::solve_iterative(const VectorType& rhs, VectorType& x, double re
   }
   b = rhs;
   b.scale(d);
-  const ScaledMatrix scaled(system_matrix_, d);
-  const ScaledPreconditioner scaled_prec(prec, d_inverse);
+  const DiagonallyScaled<MatrixType> scaled(system_matrix_, d);
+  const DiagonallyScaled<BlockTriangularPreconditioner> scaled_prec(prec, d_inverse);
   const double b_norm = b.l2_norm();
   SolverControl control(1000, std::max(relative_tolerance * b_norm, 1e-300));
   SolverFGMRES<VectorType> fgmres(control, SolverFGMRES<VectorType>::AdditionalData(100));

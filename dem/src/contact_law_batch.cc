@@ -2,33 +2,17 @@
 // has it (Kumar's law), contact_force() lane by lane otherwise.
 #include "grainlift/dem/contact_law_batch.h"
 
-#include <cstdlib>
-
-#include "step_kernels.h"
-
 #include "contact_law_avx512.h"
+#include "step_kernels.h"
 
 namespace grainlift::dem {
 
 namespace {
 
-void scalar_lanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t lo,
-                  std::size_t n) {
-  for (std::size_t l = lo; l < n; ++l) {
-    ContactKinematics k;
-    k.nx = b.nx[l];
-    k.ny = b.ny[l];
-    k.delta = b.delta[l];
-    k.r_eff = b.r_eff[l];
-    k.m_eff = b.m_eff[l];
-    k.vn = b.vn[l];
-    k.vtx = b.vtx[l];
-    k.vty = b.vty[l];
-    k.dsx = b.dsx[l];
-    k.dsy = b.dsy[l];
-    k.mu = mu;
+void scalar_lanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {
+  for (std::size_t l = 0; l < n; ++l) {
     ContactForce f;
-    contact_force(c, k, b.sx[l], b.sy[l], f);
+    contact_force(c, b.kinematics(l, mu), b.sx[l], b.sy[l], f);
     b.fx[l] = f.fx;
     b.fy[l] = f.fy;
     b.ftx[l] = f.ftx;
@@ -49,7 +33,7 @@ void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, s
     return;
   }
 #endif
-  scalar_lanes(c, mu, b, 0, n);
+  scalar_lanes(c, mu, b, n);
 }
 
 }  // namespace grainlift::dem

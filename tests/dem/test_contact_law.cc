@@ -178,18 +178,7 @@ TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
         gd::ContactBatch ref = b;
         gd::contact_force_batch(c, mu, b, n);
         for (std::size_t l = 0; l < n; ++l) {
-          gd::ContactKinematics k;
-          k.nx = ref.nx[l];
-          k.ny = ref.ny[l];
-          k.delta = ref.delta[l];
-          k.r_eff = ref.r_eff[l];
-          k.m_eff = ref.m_eff[l];
-          k.vn = ref.vn[l];
-          k.vtx = ref.vtx[l];
-          k.vty = ref.vty[l];
-          k.dsx = ref.dsx[l];
-          k.dsy = ref.dsy[l];
-          k.mu = mu;
+          const gd::ContactKinematics k = ref.kinematics(l, mu);
           double sx = ref.sx[l], sy = ref.sy[l];
           gd::ContactForce f;
           gd::contact_force(c, k, sx, sy, f);

@@ -22,6 +22,23 @@ struct ContactBatch {
   alignas(64) double vn[kLanes], vtx[kLanes], vty[kLanes], dsx[kLanes], dsy[kLanes];
   alignas(64) double sx[kLanes], sy[kLanes];
   alignas(64) double fx[kLanes], fy[kLanes], ftx[kLanes], fty[kLanes];
+
+  /// The inputs of lane @p l as contact_force() takes them, with the Coulomb coefficient @p mu.
+  ContactKinematics kinematics(std::size_t l, double mu) const {
+    ContactKinematics k;
+    k.nx = nx[l];
+    k.ny = ny[l];
+    k.delta = delta[l];
+    k.r_eff = r_eff[l];
+    k.m_eff = m_eff[l];
+    k.vn = vn[l];
+    k.vtx = vtx[l];
+    k.vty = vty[l];
+    k.dsx = dsx[l];
+    k.dsy = dsy[l];
+    k.mu = mu;
+    return k;
+  }
 };
 
 /// @brief contact_force() on lanes [0, n) of b (n <= kLanes), all with the Coulomb
