@@ -3,7 +3,7 @@
 
     plot_continuum_study.py RUN_DIR IMG_DIR
 
-Reads RUN_DIR/{split,mesh,delta,box,spin}/*/fem.h5 (the shared schema, docs/schema.md), writes
+Reads RUN_DIR/{split,mesh,delta,hdelta,wellposed,box,spin}/*/fem.h5 (the shared schema, docs/schema.md), writes
 PNG figures into IMG_DIR and prints the markdown tables of docs/results-continuum.md. Parts whose
 runs are missing are skipped with a note.
 """
@@ -113,18 +113,19 @@ def hydrostatic_weighting_lift(base, g, rho):
     return -np.sum(sn * np.sin(th)) * R * dth
 
 
-def part_split(run_dir, img_dir):
+def part_split(run_dir, img_dir, sub="split", title=""):
+    """The asymptotic split from RUN_DIR/SUB; figures continuum_SUB_*.png."""
     rows = []
     for h in (4, 8, 16, 32):
-        paths = {k: os.path.join(run_dir, "split", f"{k}_h{h}", "fem.h5") for k in ("full", "linearised", "base")}
+        paths = {k: os.path.join(run_dir, sub, f"{k}_h{h}", "fem.h5") for k in ("full", "linearised", "base")}
         if not all(os.path.exists(p) for p in paths.values()):
-            print(f"(split: h = {h} D incomplete, skipped)")
+            print(f"({sub}: h = {h} D incomplete, skipped)")
             continue
         rows.append((h, {k: load(p) for k, p in paths.items()}))
     if not rows:
-        print("(split: no runs)")
+        print(f"({sub}: no runs)")
         return
-    print("\n### Asymptotic split: (a) full nonlinear solve, (b) base state + one linear solve\n")
+    print(f"\n### Asymptotic split{title}: (a) full nonlinear solve, (b) base state + one linear solve\n")
     print("| h/D | eps | P0 (Pa) | C_d (a) | C_d (b) | L/B (a) | L/B (b) | (b)-(a) in L/B | drag base | "
           "hydrostatic weighting L/B | time (a) | time (b) | of which correction |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -157,8 +158,9 @@ def part_split(run_dir, img_dir):
     ax[1].set_ylabel("drag / (P0 D)")
     ax[1].legend()
     ax[1].set_title("drag coefficient")
+    fig.suptitle(title.strip(" ,"))
     fig.tight_layout()
-    fig.savefig(os.path.join(img_dir, "continuum_split_forces.png"), dpi=120)
+    fig.savefig(os.path.join(img_dir, f"continuum_{sub}_forces.png"), dpi=120)
     plt.close(fig)
 
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
@@ -184,8 +186,9 @@ def part_split(run_dir, img_dir):
         x.set_xlabel("theta from V (deg)")
         x.axhline(0, color="k", lw=0.5)
         x.legend(fontsize=7, loc="upper right")
+    fig.suptitle(title.strip(" ,"))
     fig.tight_layout()
-    fig.savefig(os.path.join(img_dir, "continuum_split_sigma_n.png"), dpi=120)
+    fig.savefig(os.path.join(img_dir, f"continuum_{sub}_sigma_n.png"), dpi=120)
     plt.close(fig)
 
 
@@ -256,6 +259,104 @@ def part_delta(run_dir, img_dir):
     plt.close(fig)
 
 
+def richardson(values):
+    """Observed order p and extrapolated value from the last three of a sequence of halvings
+    of the cell size: p = log2(e1 / e2), e1, e2 the last two differences; None when the
+    differences do not shrink monotonically (no asymptotic range yet)."""
+    if len(values) < 3:
+        return None
+    e1, e2 = values[-2] - values[-3], values[-1] - values[-2]
+    if e1 == 0 or e2 == 0 or e1 * e2 < 0 or abs(e2) >= abs(e1):
+        return None
+    ratio = e1 / e2
+    return math.log2(ratio), values[-1] + e2 / (ratio - 1)
+
+
+def print_convergence(rows):
+    """Observed order and extrapolation of drag and lift over the last three mesh levels."""
+    for name, f in (("drag / (P0 D)", drag_coefficient), ("L/B", lift_ratio)):
+        est = richardson([f(r) for _, r in rows])
+        if est is None:
+            print(f"{name}: no monotone convergence over the last three levels")
+        elif est[0] < 0.5:
+            print(f"{name}: observed order {est[0]:.2f}: not converging yet (no extrapolation)")
+        else:
+            print(f"{name}: observed order {est[0]:.2f}, extrapolated {est[1]:.4g}")
+
+
+def part_wellposed(run_dir, img_dir):
+    """Barker-Gray (well-posed) law: mesh levels and delta (study_continuum.sh wellposed),
+    beside Jop's law with Chauchat-Medale (the mesh part)."""
+    bg = series(run_dir, "wellposed", "bg_r*", lambda n: int(n.split("_r")[1]))
+    if not bg:
+        print("(wellposed: no runs)")
+        return
+    print_table("Mesh levels, Barker-Gray law (delta = 1e-3 1/s), h = 8 D", "refinement", bg,
+                ("cells", "dofs", "cd", "lb", "steps", "time"))
+    print_convergence(bg)
+    deltas = series(run_dir, "wellposed", "bg_delta_*", lambda n: float(n.split("_")[-1]))
+    r3 = [r for lev, r in bg if lev == 3]
+    if r3:
+        deltas = sorted(deltas + [(1e-3, r3[0])], key=lambda x: x[0])
+    if deltas:
+        print_table("Barker-Gray law, delta at refinement 3, h = 8 D", "delta (1/s)", deltas,
+                    ("cd", "lb", "steps", "time"))
+    jop = series(run_dir, "mesh", "full_r*", lambda n: int(n.split("_r")[1]))
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    for rows, style, lab in ((bg, "o-", "Barker-Gray (well posed)"),
+                             (jop, "s--", "Jop + Chauchat-Medale (ill posed for I < 0.019)")):
+        if not rows:
+            continue
+        lev = [x for x, _ in rows]
+        ax[0].plot(lev, [drag_coefficient(r) for _, r in rows], style, label=lab)
+        ax[1].plot(lev, [lift_ratio(r) for _, r in rows], style, label=lab)
+    ax[0].set_title("drag / (P0 D)")
+    ax[1].set_title("lift / buoyancy")
+    for a in ax:
+        a.set_xlabel("refinement level")
+        a.legend()
+    fig.suptitle("Guillard gradient case, h = 8 D, delta = 1e-3 1/s (Jop's law fails at level 3)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_wellposed.png"), dpi=120)
+    plt.close(fig)
+
+
+def part_hdelta(run_dir, img_dir):
+    """Mesh levels at fixed regularisation delta (study_continuum.sh hdelta)."""
+    runs = {}
+    for p in glob.glob(os.path.join(run_dir, "hdelta", "delta_*_r*", "fem.h5")):
+        m = re.match(r"delta_([0-9.eE+-]+)_r(\d+)", os.path.basename(os.path.dirname(p)))
+        runs.setdefault(float(m.group(1)), []).append((int(m.group(2)), load(p)))
+    if not runs:
+        print("(hdelta: no runs)")
+        return
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4))
+    for k, delta in enumerate(sorted(runs, reverse=True)):
+        rows = sorted(runs[delta], key=lambda x: x[0])
+        print_table(f"Mesh levels at delta = {delta:g} 1/s, h = 8 D", "refinement", rows,
+                    ("cells", "dofs", "cd", "lb", "steps", "time"))
+        print_convergence(rows)
+        lev = [x for x, _ in rows]
+        lab = f"delta = {delta:g} 1/s"
+        ax[0].plot(lev, [drag_coefficient(r) for _, r in rows], "o-", color=f"C{k}", label=lab)
+        ax[1].plot(lev, [lift_ratio(r) for _, r in rows], "s-", color=f"C{k}", label=lab)
+        ax[2].loglog([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-",
+                     color=f"C{k}", label=lab)
+    ax[0].set_title("drag / (P0 D)")
+    ax[1].set_title("lift / buoyancy")
+    for a in ax[:2]:
+        a.set_xlabel("refinement level (cell size halves per level)")
+        a.legend()
+    ax[2].set_xlabel("unknowns")
+    ax[2].set_ylabel("wall time (s)")
+    ax[2].set_title("cost")
+    ax[2].legend()
+    fig.suptitle("Guillard gradient case, h = 8 D: mesh levels at fixed regularisation")
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_hdelta.png"), dpi=120)
+    plt.close(fig)
+
+
 def part_box(run_dir, img_dir):
     rows = series(run_dir, "box", "box_x*", lambda n: float(n.split("_x")[1]))
     if not rows:
@@ -290,8 +391,11 @@ def main():
     run_dir, img_dir = sys.argv[1:]
     os.makedirs(img_dir, exist_ok=True)
     part_split(run_dir, img_dir)
+    part_split(run_dir, img_dir, "split_bg", ", Barker-Gray law, refinement 3")
     part_mesh(run_dir, img_dir)
     part_delta(run_dir, img_dir)
+    part_hdelta(run_dir, img_dir)
+    part_wellposed(run_dir, img_dir)
     part_box(run_dir, img_dir)
     part_spin(run_dir, img_dir)
     return 0

@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
 # The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
-#   scripts/study_continuum.sh [split|mesh|delta|box|spin|plots|all] [OUT_DIR]
+#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|spin|plots|all] [OUT_DIR]
 # Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
 #          and the base states alone (no gravity, same P0)              ~15 min on one core
+#   split_bg  the same with the well-posed Barker-Gray law at refinement 3  ~30 min
 #   mesh   refinement 0..2 (MESH_MAX=3: and 3) at h = 8 D, 1..3 adaptive cycles from 1
 #   delta  regularisation delta at refinement 2, h = 8 D                 ~5 min
+#   hdelta mesh levels 0..3 at fixed delta = 0.1, 0.03, 0.015 V/R (h = 8 D), and level 4
+#          at 0.1 and 0.03 V/R: the discretisation converging for a fixed regularised
+#          problem                                                        ~30 min
+#   wellposed  the same with the well-posed Barker-Gray law (regularisation = "barker_gray"):
+#          mesh levels 0..4 at h = 8 D, delta 1e-2..1e-4 at refinement 3      ~25 min
 #   box    FE box size at h = 16 D                                       ~5 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
 #   plots  figures into docs/img from OUT_DIR
@@ -34,15 +40,20 @@ run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rer
   grep -E "^ fem:" "$dir.log" || true
 }
 
-part_split() {
+part_split() {  # part_split [SUBDIR EXTRA_ARGS...]
+  local sub=${1:-split}
+  shift || true
   for h in 4 8 16 32; do
     local pos="intruder.position=[0.0,$(ypos $h)]"
-    run "split/full_h$h" --set "$BOX" --set "$pos"
-    run "split/linearised_h$h" --set "$BOX" --set "$pos" \
-      --set 'continuum.gravity_treatment="linearised"'
-    run "split/base_h$h" --set "$BOX" --set "$pos" --set "scene.gravity=[0.0,0.0]" \
-      --set "continuum.ambient_pressure=$(p0 $h)"
+    run "$sub/full_h$h" --set "$BOX" --set "$pos" "$@"
+    run "$sub/linearised_h$h" --set "$BOX" --set "$pos" \
+      --set 'continuum.gravity_treatment="linearised"' "$@"
+    run "$sub/base_h$h" --set "$BOX" --set "$pos" --set "scene.gravity=[0.0,0.0]" \
+      --set "continuum.ambient_pressure=$(p0 $h)" "$@"
   done
+}
+part_split_bg() {  # the split with the well-posed Barker-Gray law, refinement 3
+  part_split split_bg --set 'continuum.regularisation="barker_gray"' --set continuum.refinement=3
 }
 part_mesh() {
   for r in 0 1 2 ${MESH_MAX:+$(seq -s ' ' 3 "$MESH_MAX")}; do
@@ -60,6 +71,27 @@ part_delta() {
   for d in 1e-1 1e-2 1e-3 1e-4; do
     run "delta/delta_$d" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
       --set continuum.delta=$d
+  done
+}
+part_hdelta() {
+  # V/R = 0.05 / 0.0075 = 6.667 1/s
+  for d in 0.6667 0.2 0.1; do
+    local top=3
+    [[ $d == 0.6667 || $d == 0.2 ]] && top=4
+    for r in $(seq 0 $top); do
+      run "hdelta/delta_${d}_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+        --set continuum.delta=$d --set continuum.refinement=$r
+    done
+  done
+}
+part_wellposed() {
+  local bg=(--set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]"
+            --set 'continuum.regularisation="barker_gray"')
+  for r in 0 1 2 3 4; do
+    run "wellposed/bg_r$r" "${bg[@]}" --set continuum.refinement=$r
+  done
+  for d in 1e-2 1e-4; do
+    run "wellposed/bg_delta_$d" "${bg[@]}" --set continuum.refinement=3 --set continuum.delta=$d
   done
 }
 part_box() {
@@ -88,11 +120,14 @@ part_plots() {
 mkdir -p "$O"
 case "$PART" in
   split) part_split ;;
+  split_bg) part_split_bg ;;
   mesh) part_mesh ;;
   delta) part_delta ;;
+  hdelta) part_hdelta ;;
+  wellposed) part_wellposed ;;
   box) part_box ;;
   spin) part_spin ;;
   plots) part_plots ;;
-  all) part_split; part_mesh; part_delta; part_box; part_spin; part_plots ;;
-  *) echo "usage: $0 [split|mesh|delta|box|spin|plots|all] [OUT_DIR]" >&2; exit 2 ;;
+  all) part_split; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_spin; part_plots ;;
+  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|spin|plots|all] [OUT_DIR]" >&2; exit 2 ;;
 esac

@@ -50,6 +50,7 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   rh.regularisation = c.continuum.regularisation == "barker_gray" ? Regularisation::barker_gray
                                                                   : Regularisation::chauchat_medale;
   rh.delta = c.continuum.delta;
+  rh.barker_gray_IN = c.continuum.barker_gray_IN;
   rh.eta_max = c.continuum.eta_max;
   rh.pressure_smoothing = c.continuum.pressure_smoothing * f.ambient_pressure;
   f.linearised_gravity = c.continuum.gravity_treatment == "linearised";

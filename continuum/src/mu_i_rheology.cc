@@ -23,6 +23,37 @@ double dmu_jop(const RheologyParams& p, double I) {
 }
 }  // namespace
 
+double barker_criterion(double mu, double nu) {
+  return 4 * nu * nu - 4 * nu + mu * mu * (1 - 0.5 * nu) * (1 - 0.5 * nu);
+}
+
+InertialRange well_posed_range(const RheologyParams& p) {
+  const auto c = [&p](double I) { return barker_criterion(mu_jop(p, I), I * dmu_jop(p, I) / mu_jop(p, I)); };
+  // scan log-spaced I for the first and last sign change, then bisect each
+  const auto bisect = [&c](double a, double b) {  // c(a) and c(b) differ in sign
+    for (int k = 0; k < 100 && b - a > 1e-14 * b; ++k) {
+      const double m = std::sqrt(a * b);
+      ((c(m) < 0) == (c(a) < 0) ? a : b) = m;
+    }
+    return std::sqrt(a * b);
+  };
+  InertialRange r;
+  constexpr int n = 400;
+  constexpr double lo = 1e-10, hi = 1e4;
+  double prev = lo;
+  bool inside = c(lo) < 0, found = false;
+  for (int k = 1; k <= n; ++k) {
+    const double I = lo * std::pow(hi / lo, double(k) / n);
+    const bool now = c(I) < 0;
+    if (now && !inside && !found) { r.low = bisect(prev, I); found = true; }
+    if (!now && inside && found) r.high = bisect(prev, I);
+    inside = now;
+    prev = I;
+  }
+  if (!found || !(r.high > r.low)) return {};
+  return r;
+}
+
 void NewtonianViscosity::evaluate(const RheologyInputs& in, RheologyOutputs& out) const {
   for (std::size_t q = 0; q < in.size(); ++q) {
     out.viscosity[q] = eta_;
@@ -35,9 +66,14 @@ void NewtonianViscosity::evaluate(const RheologyInputs& in, RheologyOutputs& out
 
 MuIRheology::MuIRheology(const RheologyParams& params) : p_(params) {
   if (p_.regularisation == Regularisation::barker_gray) {
+    bg_IN_ = p_.barker_gray_IN;
+    if (bg_IN_ <= 0) {
+      const InertialRange w = well_posed_range(p_);
+      bg_IN_ = w.empty() ? 1e-3 : std::min(1.5 * w.low, std::sqrt(w.low * w.high));
+    }
     // C1 continuity at I_N of sqrt(alpha / ln(A / I)):
     //   alpha = mu_N^3 / (2 I_N mu'_N),  A = I_N exp(alpha / mu_N^2).
-    const double IN = p_.barker_gray_IN;
+    const double IN = bg_IN_;
     const double muN = mu_jop(p_, IN), dmuN = dmu_jop(p_, IN);
     bg_alpha_ = muN * muN * muN / (2 * IN * dmuN);
     bg_A_ = IN * std::exp(bg_alpha_ / (muN * muN));
@@ -46,7 +82,7 @@ MuIRheology::MuIRheology(const RheologyParams& params) : p_(params) {
 
 double MuIRheology::friction(double I) const {
   if (!std::isfinite(I)) return p_.mu_2;
-  if (p_.regularisation == Regularisation::barker_gray && I < p_.barker_gray_IN) {
+  if (p_.regularisation == Regularisation::barker_gray && I < bg_IN_) {
     if (I <= 0) return 0;
     return std::sqrt(bg_alpha_ / std::log(bg_A_ / I));
   }
@@ -55,7 +91,7 @@ double MuIRheology::friction(double I) const {
 
 double MuIRheology::dfriction_dI(double I) const {
   if (!std::isfinite(I)) return 0;
-  if (p_.regularisation == Regularisation::barker_gray && I < p_.barker_gray_IN) {
+  if (p_.regularisation == Regularisation::barker_gray && I < bg_IN_) {
     if (I <= 0) return 0;
     const double mu = friction(I);
     return mu * mu * mu / (2 * bg_alpha_ * I);  // d/dI sqrt(alpha / ln(A/I))
@@ -67,14 +103,18 @@ double MuIRheology::inertial_number_for_friction(double mu) const {
   return p_.I0 * (mu - p_.mu_s) / (p_.mu_2 - mu);
 }
 
+double MuIRheology::well_posedness(double I) const {
+  const double mu = friction(I);
+  return barker_criterion(mu, I * dfriction_dI(I) / mu);
+}
+
 void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const {
-  const bool cm = p_.regularisation == Regularisation::chauchat_medale;
   const double d = p_.grain_diameter, rho_s = p_.solid_density, delta2 = p_.delta * p_.delta;
   for (std::size_t q = 0; q < in.size(); ++q) {
     const double s = std::max(in.strain_rate_sq[q], 0.0);  // |D|^2
-    // gd = sqrt(|D|^2 + delta^2) (Chauchat-Medale) or |D| floored (Barker-Gray) is used both
-    // in I and in the denominator of eta.
-    const double gd = cm ? std::sqrt(s + delta2) : std::max(std::sqrt(s), kStrainFloor);
+    // gd = sqrt(|D|^2 + delta^2) (|D| when delta = 0, floored) is used both in I and in the
+    // denominator of eta, with either friction law.
+    const double gd = std::max(std::sqrt(s + delta2), kStrainFloor);
     // pressure clamped in the rheology only: max(p, 0), or its smooth version
     // (p + sqrt(p^2 + p_eps^2)) / 2 when pressure_smoothing = p_eps > 0
     const double p = in.pressure[q];

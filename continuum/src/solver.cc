@@ -185,7 +185,17 @@ void validate_config(const ContinuumConfig& c) {
   require(r.regularisation != Regularisation::chauchat_medale || r.delta > 0 || r.eta_max < HUGE_VAL,
           "chauchat_medale needs delta > 0 or a finite eta_max");
   require(r.eta_min >= 0 && r.eta_max > r.eta_min, "rheology needs 0 <= eta_min < eta_max");
-  require(r.barker_gray_IN > 0 && r.barker_gray_IN < 1, "rheology barker_gray_IN must be in (0, 1)");
+  if (r.regularisation == Regularisation::barker_gray) {
+    // the low-I branch is well posed only when it joins mu(I) where mu(I) itself is
+    const InertialRange w = well_posed_range(r);
+    require(!w.empty(), "barker_gray needs mu_s, mu_2, I0 for which mu(I) is well posed in some "
+                        "range of I (Barker et al. 2015); these give none");
+    std::ostringstream range;
+    range << "(" << w.low << ", " << w.high << ")";
+    require(r.barker_gray_IN == 0 || (r.barker_gray_IN > w.low && r.barker_gray_IN < w.high),
+            "barker_gray_IN must be 0 (automatic) or inside the well-posed range " + range.str() +
+                " of mu(I)");
+  }
   require(c.wall_friction >= 0, "wall_friction must be >= 0");
   require(c.wall_slip_regularisation >= 0, "wall_slip_regularisation must be >= 0");
   require(c.inertia_threshold >= 0, "inertia_threshold must be >= 0");
@@ -282,9 +292,10 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const ProblemSetup setup = make_setup(linearised ? Vec2() : g);
     out.inertia_used = setup.inertia_density > 0;
 
-    // ---- continuation: the target problem is approached through Chauchat-Medale stages with
-    // delta_k = 0.1 gamma_ref, 0.01 gamma_ref, ... (> 2 delta), gamma_ref = v_ref / R, without
-    // inertia, each solved to 1e-3 |R_0|; the last stage is the requested rheology and
+    // ---- continuation: the target problem is approached through stages of the case's friction
+    // law (Jop's mu(I), or Barker-Gray's) with the strain-rate regularisation delta_k = 0.1
+    // gamma_ref, 0.01 gamma_ref, ... (> 2 delta, > 1e-6 gamma_ref), gamma_ref = v_ref / R,
+    // without inertia, each solved to 1e-3 |R_0|; the last stage is the requested rheology and
     // inertia, solved to nonlinear_tolerance |R_0|. A stage that does not converge is retried
     // from the last converged state after an intermediate stage at the geometric mean of the
     // two deltas (at most kMaxSplits times in a run): a factor of 10 in delta is too large a
@@ -292,7 +303,8 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     const double gamma_ref = std::max(vref, 1e-12) / R;
     struct Stage { double delta; bool final; };
     std::vector<double> schedule;  // the intermediate deltas
-    for (double delta = 0.1 * gamma_ref; c.continuation && delta > 2 * c.rheology.delta; delta *= 0.1)
+    for (double delta = 0.1 * gamma_ref;
+         c.continuation && delta > 2 * c.rheology.delta && delta > 1e-6 * gamma_ref; delta *= 0.1)
       schedule.push_back(delta);
     std::deque<Stage> todo;
     for (const double delta : schedule) todo.push_back({delta, false});
@@ -318,7 +330,6 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
           os << "continuum: final stage";
         } else {
           RheologyParams prm = c.rheology;
-          prm.regularisation = Regularisation::chauchat_medale;
           prm.delta = st.delta;
           stage_rheology.push_back(std::make_unique<MuIRheology>(prm));
           problem.set_viscosity(stage_rheology.back().get());

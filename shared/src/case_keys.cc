@@ -125,6 +125,10 @@ std::vector<KeySpec> make_keys() {
                      {"chauchat_medale", "barker_gray"}, "viscosity regularisation"));
   k.push_back(real("continuum.delta", false, "1e-3", 0, 1e3, true, false, "1/s",
                    "strain-rate regularisation delta"));
+  k.push_back(real("continuum.barker_gray_IN", false, "0.0", 0, 1, false, true, "-",
+                   "barker_gray only: I_N below which mu(I) takes the well-posed low-I branch of "
+                   "Barker & Gray 2017; 0 = 1.5 x the lower end of the range of I where mu(I) is "
+                   "well posed (Barker et al. 2015); otherwise inside that range"));
   k.push_back(real("continuum.eta_max", false, "1e4", 0, 1e12, true, false, "Pa s",
                    "viscosity cap"));
   k.push_back(real("continuum.pressure_smoothing", false, "0.0", 0, 1, false, false, "-",

@@ -368,6 +368,7 @@ Case build_case(const toml::table& r) {
   cn.I0 = get_real(r, "continuum.I0", cn.I0);
   cn.regularisation = get_text(r, "continuum.regularisation", cn.regularisation);
   cn.delta = get_real(r, "continuum.delta", cn.delta);
+  cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN", cn.barker_gray_IN);
   cn.eta_max = get_real(r, "continuum.eta_max", cn.eta_max);
   cn.pressure_smoothing = get_real(r, "continuum.pressure_smoothing", cn.pressure_smoothing);
   cn.gravity_treatment = get_text(r, "continuum.gravity_treatment", cn.gravity_treatment);

@@ -55,6 +55,18 @@ TEST(Cylinder, BadConfigurationThrowsConfigError) {
   c.bulk_density = 1500;
   c.ambient_pressure = 100;  // rho g H = 7357 Pa > P0: negative pressure at the top
   EXPECT_THROW(solve_flow(c), ConfigError);
+  // Barker & Gray's low-I branch is well posed only when it joins mu(I) inside mu(I)'s own
+  // well-posed range (about [0.019, 0.86] for these parameters): I_N = 1e-3 is refused, with
+  // the range in the message
+  c = coarse_case();
+  c.rheology.regularisation = Regularisation::barker_gray;
+  c.rheology.barker_gray_IN = 1e-3;
+  try {
+    solve_flow(c);
+    ADD_FAILURE() << "barker_gray_IN = 1e-3 was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("well-posed range (0.019"), std::string::npos) << e.what();
+  }
 }
 
 // Spin at Omega = omega R / V = 1 without gravity: the lift points along -omega x V, opposite
@@ -133,10 +145,13 @@ TEST(Cylinder, SampledFieldsAndVtu) {
   EXPECT_TRUE(std::filesystem::exists(dir / "continuum.vtu"));
 }
 
-// Barker & Gray's partial regularisation and Chauchat & Medale's describe the same mu(I) where
-// I > I_N and share the viscosity cap elsewhere: on the symmetric case both converge, give no
-// lift, and their drags agree to 1%.
-TEST(Cylinder, BarkerGrayAndChauchatMedaleAgree) {
+// Barker & Gray's law is Jop's mu(I) for I >= I_N (automatic I_N = 0.029 here, 1.5 x the lower
+// end of mu(I)'s well-posed range) and a lower friction below, which tends to 0 as I -> 0. On
+// the symmetric case both must converge and give no lift (|L| < 1e-6 D); the drags differ only
+// through the slow zones where I < I_N (here V/R = 2 1/s and p ~ P0..10 P0 = 1-10 kPa, so the
+// sheared medium has I ~ 1e-3..1e-2, mostly below I_N): Barker-Gray's drag must be lower, by
+// less than 20% (measured 867.2 against 958.0 N/m, -9.5%, at refinement 1).
+TEST(Cylinder, BarkerGrayConvergesAndWeakensTheLowIFlow) {
   ContinuumConfig c = coarse_case();
   const ContinuumOutput cm = solve_flow(c);
   c.rheology.regularisation = Regularisation::barker_gray;
@@ -144,7 +159,8 @@ TEST(Cylinder, BarkerGrayAndChauchatMedaleAgree) {
   ASSERT_TRUE(cm.converged) << cm.message;
   ASSERT_TRUE(bg.converged) << bg.message;
   std::printf("drag: Chauchat-Medale %.6g, Barker-Gray %.6g\n", -cm.fx, -bg.fx);
-  EXPECT_NEAR(bg.fx / cm.fx, 1.0, 0.01);
+  EXPECT_LT(-bg.fx, -cm.fx);
+  EXPECT_GT(-bg.fx, 0.8 * -cm.fx);
   EXPECT_LT(std::abs(bg.fy), 1e-6 * std::abs(bg.fx));
 }
 

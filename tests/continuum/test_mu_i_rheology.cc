@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "grainlift/continuum/mu_i_rheology.h"
 
@@ -95,6 +96,57 @@ TEST(MuIRheology, BarkerGrayBranchIsC1AndVanishesAtZero) {
   EXPECT_NEAR(m.dfriction_dI(IN * (1 - e)), m.dfriction_dI(IN * (1 + e)), 1e-6 * m.dfriction_dI(IN));
   EXPECT_LT(m.friction(1e-300), 0.1);
   EXPECT_GT(m.friction(1e-6), 0);
+}
+
+// Barker et al. (JFM 779, 2015): incompressible mu(I) in 2D is well posed only at intermediate
+// I. For the glass-bead parameters (mu_s 0.38, mu_2 0.64, I_0 0.279) it must be ill posed deep
+// in the quasi-static range (I = 1e-4) and far in the collisional one (I = 10), well posed at
+// I = 0.1, and the ends of well_posed_range() must be roots of the criterion (|C| < 1e-9 there,
+// with opposite signs 1% inside and outside).
+TEST(MuIRheology, JopLawIsWellPosedOnlyAtIntermediateI) {
+  RheologyParams prm;
+  MuIRheology m(prm);
+  EXPECT_GT(m.well_posedness(1e-4), 0);
+  EXPECT_GT(m.well_posedness(10.0), 0);
+  EXPECT_LT(m.well_posedness(0.1), 0);
+  const InertialRange w = well_posed_range(prm);
+  ASSERT_FALSE(w.empty());
+  std::printf("mu(I) well posed for %.5g < I < %.5g\n", w.low, w.high);
+  for (const double end : {w.low, w.high}) EXPECT_LT(std::abs(m.well_posedness(end)), 1e-9);
+  EXPECT_GT(m.well_posedness(0.99 * w.low), 0);
+  EXPECT_LT(m.well_posedness(1.01 * w.low), 0);
+  EXPECT_LT(m.well_posedness(0.99 * w.high), 0);
+  EXPECT_GT(m.well_posedness(1.01 * w.high), 0);
+  // a constant friction (mu_2 -> mu_s: nu -> 0) is ill posed everywhere
+  RheologyParams coulomb = prm;
+  coulomb.mu_2 = prm.mu_s * (1 + 1e-9);
+  EXPECT_TRUE(well_posed_range(coulomb).empty());
+}
+
+// Barker & Gray 2017: the low-I branch makes the law well posed for every I below I_N when I_N
+// lies in mu(I)'s well-posed range: C < 0 at 200 points from I = 1e-12 to I_N, for the
+// automatic I_N (1.5 x the lower end) and for I_N at the middle of the range. Joined below the
+// range (I_N = 1e-3) it is not (C > 0 just below I_N).
+TEST(MuIRheology, BarkerGrayBranchIsWellPosedBelowIN) {
+  RheologyParams prm;
+  prm.regularisation = Regularisation::barker_gray;
+  const InertialRange w = well_posed_range(prm);
+  for (const double IN : {0.0, std::sqrt(w.low * w.high)}) {
+    prm.barker_gray_IN = IN;
+    MuIRheology m(prm);
+    EXPECT_GT(m.barker_gray_IN(), w.low);
+    EXPECT_LT(m.barker_gray_IN(), w.high);
+    double worst = -1e300;
+    for (int k = 0; k < 200; ++k) {
+      const double I = 1e-12 * std::pow(m.barker_gray_IN() / 1e-12, k / 199.0);
+      worst = std::max(worst, m.well_posedness(I));
+    }
+    std::printf("I_N = %.4g: largest criterion below I_N %.3g\n", m.barker_gray_IN(), worst);
+    EXPECT_LT(worst, 0) << "I_N = " << m.barker_gray_IN();
+  }
+  prm.barker_gray_IN = 1e-3;
+  MuIRheology below(prm);
+  EXPECT_GT(below.well_posedness(0.9e-3), 0);
 }
 
 // Smoothed clamp p+ = (p + sqrt(p^2 + p_eps^2)) / 2: far from p = 0 (|p| = 1e3 p_eps) the

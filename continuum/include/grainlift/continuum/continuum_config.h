@@ -35,7 +35,9 @@ struct RheologyParams {
   double eta_min = 1e-6;            ///< Pa s, viscosity floor (where p <= 0 the mu(I) viscosity vanishes)
   /// I_N of Barker & Gray 2017: below it mu(I) = sqrt(alpha / ln(A / I)), with alpha and A set so
   /// that mu and dmu/dI are continuous at I_N. Used only with Regularisation::barker_gray.
-  double barker_gray_IN = 1e-3;
+  /// Must lie inside the range where Jop's mu(I) is well posed (well_posed_range()); 0 picks
+  /// 1.5 times its lower end (see MuIRheology::barker_gray_IN()).
+  double barker_gray_IN = 0;
   /// Pa, p_eps: with p_eps > 0 the rheology sees p+ = (p + sqrt(p^2 + p_eps^2)) / 2 instead of
   /// max(p, 0), so that d eta / d p is continuous where the pressure vanishes (0 = hard clamp).
   double pressure_smoothing = 0;

@@ -52,14 +52,32 @@ class NewtonianViscosity final : public ViscosityModel {
   double eta_;
 };
 
+/// @brief Well-posedness criterion of Barker, Schaeffer, Bohorquez & Gray (JFM 779, 2015) for
+/// two-dimensional incompressible flow with a friction law mu(I): with nu = I mu'(I) / mu(I),
+/// the equations are well posed where C = 4 nu^2 - 4 nu + mu^2 (1 - nu / 2)^2 < 0 and ill posed
+/// (short waves grow without bound, so no mesh convergence) where C > 0.
+double barker_criterion(double mu, double nu);
+
+/// @brief Inertial numbers [low, high] between which Jop's unregularised mu(I) with the
+/// parameters of @p params satisfies barker_criterion() (for mu_s 0.38, mu_2 0.64, I_0 0.279:
+/// about [0.019, 0.86]); low = high = 0 when it holds nowhere.
+struct InertialRange {
+  double low = 0, high = 0;
+  bool empty() const { return !(high > low); }
+};
+InertialRange well_posed_range(const RheologyParams& params);
+
 /// @brief The mu(I) rheology of Jop, Forterre & Pouliquen (Nature 2006), regularised.
 ///
 /// mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1),  I = 2 |D| d / sqrt(p+ / rho_s),  p+ = max(p, 0)
 /// (the pressure is clamped here, never in the solution).
 ///  - chauchat_medale: eta = mu(I) p+ / (2 sqrt(|D|^2 + delta^2))  (Chauchat & Medale, JCP 2014),
 ///    with the same regularised sqrt(|D|^2 + delta^2) in place of |D| in I (smooth at |D| = 0);
-///  - barker_gray: eta = mu_BG(I) p+ / (2 |D|), mu_BG = mu(I) for I >= I_N and
-///    sqrt(alpha / ln(A / I)) below (Barker & Gray, JFM 2017), alpha, A from C1 continuity at I_N.
+///  - barker_gray: mu(I) replaced by mu_BG = mu(I) for I >= I_N and sqrt(alpha / ln(A / I))
+///    below (Barker & Gray, JFM 2017), alpha, A from C1 continuity at I_N; with I_N inside the
+///    well-posed range of mu(I) the law is well posed for every I < high (barker_criterion()).
+///    The strain rate is regularised as above when delta > 0 (eta = mu_BG p+ / (2 sqrt(|D|^2 +
+///    delta^2))), and eta = mu_BG p+ / (2 |D|) with delta = 0.
 /// Both are then capped smoothly, eta <- eta_max tanh(eta / eta_max) (relative change
 /// (eta/eta_max)^2 / 3 well below the cap; keeps Newton's Jacobian continuous), and floored at
 /// eta_min (derivatives zero below the floor).
@@ -75,11 +93,16 @@ class MuIRheology final : public ViscosityModel {
   double dfriction_dI(double inertial_number) const;
   /// @brief Inverse of the unregularised mu(I) for mu_s < mu < mu_2 (used by tests).
   double inertial_number_for_friction(double mu) const;
+  /// @brief barker_criterion() of the friction law in use at @p I (< 0: well posed there).
+  double well_posedness(double inertial_number) const;
+  /// @brief I_N in use: params().barker_gray_IN, or when that is 0 1.5 times the lower end of
+  /// well_posed_range() (kept below the geometric mean of its ends).
+  double barker_gray_IN() const { return bg_IN_; }
   const RheologyParams& params() const { return p_; }
 
  private:
   RheologyParams p_;
-  double bg_alpha_ = 0, bg_A_ = 0;  // Barker & Gray low-I branch
+  double bg_IN_ = 0, bg_alpha_ = 0, bg_A_ = 0;  // Barker & Gray low-I branch
 };
 
 }  // namespace grainlift::continuum

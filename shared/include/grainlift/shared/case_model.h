@@ -69,6 +69,7 @@ struct ContinuumSection {
   double delta = 1e-3;          ///< 1/s
   double eta_max = 1e4;         ///< Pa s
   double pressure_smoothing = 0;  ///< p_eps / P0 (0 = hard clamp max(p, 0))
+  double barker_gray_IN = 0;      ///< 0 = automatic (see continuum.barker_gray_IN)
   std::string gravity_treatment = "full";  ///< "full" or "linearised"
   std::string wall = "no_slip";
   double wall_friction = 0;     ///< default: intruder.friction
