@@ -3,6 +3,8 @@
 #include "grainlift/continuum/solver.h"
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/distributed/grid_refinement.h>
+#include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_values_extractors.h>
 #include <deal.II/grid/grid_generator.h>
@@ -203,15 +205,6 @@ void validate_config(const ContinuumConfig& c) {
 ContinuumOutput solve_flow(const ContinuumConfig& c,
                            const std::function<void(const std::string&)>& log) {
   validate_config(c);
-  // what the distributed solve (more than one MPI rank) does not support yet; every rank
-  // throws, before anything is solved or written
-  const int ranks = MpiSession::size();
-  if (ranks > 1) {
-    const std::string started = " (started as one of " + std::to_string(ranks) + " MPI ranks)";
-    require(c.adaptive_cycles == 0,
-            "continuum.adaptive_cycles > 0 runs on one MPI process only" + started +
-                ": set continuum.adaptive_cycles = 0 or run without mpirun");
-  }
   const auto say = [&log](const std::string& s) { if (log) log(s); };
   ContinuumOutput out;
   try {
@@ -352,26 +345,61 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
 
     // ---- adaptive refinement: Kelly's indicator (jump of the velocity gradient across faces,
     // weighted by the face size) marks the 30% of the cells with the largest values; the
-    // solution is carried over to the refined mesh and the problem solved again from it
+    // solution is carried over to the refined mesh and the problem solved again from it.
+    // Distributed mesh: each rank estimates its own cells (the ghosted solution gives the
+    // neighbours across the partition), the 30% are counted over all ranks, and the old solution
+    // travels with the cells (parallel::distributed::SolutionTransfer, from a ghosted vector).
+    // The marked cells are those of one process, but p4est keeps the mesh 2:1 balanced across
+    // vertices where the serial Triangulation only limits the level jump across faces: a cell
+    // that touches a cell two levels finer at a corner only (next to the corners of the finer
+    // block around the intruder) is refined as well (counted in the log line). From the first
+    // cycle on, the mesh of N > 1 ranks is then finer than the one-process mesh by a few cells;
+    // it does not depend on N.
+    auto* const distributed =
+        dynamic_cast<parallel::distributed::Triangulation<internal::dim>*>(&tria);
     for (int cycle = 0; cycle < c.adaptive_cycles && problem.report().converged; ++cycle) {
-      Vector<float> indicator(tria.n_active_cells());
+      Vector<float> indicator(tria.n_active_cells());  // distributed: 0 on the others' cells
       const FEValuesExtractors::Vector velocity(0);
+      const internal::VectorType old_ghosted = problem.ghosted(problem.solution());
       KellyErrorEstimator<internal::dim>::estimate(
-          problem.mapping(), problem.dof_handler(), QGauss<internal::dim - 1>(3), {},
-          problem.ghosted(problem.solution()), indicator,
-          problem.dof_handler().get_fe().component_mask(velocity));
-      GridRefinement::refine_and_coarsen_fixed_number(tria, indicator, 0.3, 0.0);
-      SolutionTransfer<internal::dim, internal::VectorType> transfer(problem.dof_handler());
-      const internal::VectorType old_solution = problem.solution();
-      tria.prepare_coarsening_and_refinement();
-      transfer.prepare_for_coarsening_and_refinement(old_solution);
-      tria.execute_coarsening_and_refinement();
-      problem.setup_system();
-      transfer.interpolate(old_solution, problem.solution());
+          problem.mapping(), problem.dof_handler(), QGauss<internal::dim - 1>(3), {}, old_ghosted,
+          indicator, problem.dof_handler().get_fe().component_mask(velocity));
+      types::global_cell_index balance_refined = 0;  // refined beyond the serial rule
+      if (distributed) {
+        parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
+            *distributed, indicator, 0.3, 0.0);
+        tria.prepare_coarsening_and_refinement();
+        types::global_cell_index flagged = 0;
+        for (const auto& cell : tria.active_cell_iterators())
+          if (cell->is_locally_owned() && cell->refine_flag_set()) ++flagged;
+        constexpr unsigned int added = GeometryInfo<internal::dim>::max_children_per_cell - 1;
+        const types::global_cell_index expected =
+            tria.n_global_active_cells() +
+            added * Utilities::MPI::sum(flagged, tria.get_communicator());
+        parallel::distributed::SolutionTransfer<internal::dim, internal::VectorType> transfer(
+            problem.dof_handler());
+        transfer.prepare_for_coarsening_and_refinement(old_ghosted);
+        tria.execute_coarsening_and_refinement();
+        balance_refined = (tria.n_global_active_cells() - expected) / added;
+        problem.setup_system();
+        transfer.interpolate(problem.solution());  // owned entries
+      } else {
+        GridRefinement::refine_and_coarsen_fixed_number(tria, indicator, 0.3, 0.0);
+        SolutionTransfer<internal::dim, internal::VectorType> transfer(problem.dof_handler());
+        const internal::VectorType old_solution = problem.solution();
+        tria.prepare_coarsening_and_refinement();
+        transfer.prepare_for_coarsening_and_refinement(old_solution);
+        tria.execute_coarsening_and_refinement();
+        problem.setup_system();
+        transfer.interpolate(old_solution, problem.solution());
+      }
       problem.nonzero_constraints().distribute(problem.solution());
       std::ostringstream os;
       os << "continuum: adaptive cycle " << cycle + 1 << " of " << c.adaptive_cycles << ": "
-         << tria.n_active_cells() << " cells, " << problem.dof_handler().n_dofs() << " dofs";
+         << tria.n_global_active_cells() << " cells, " << problem.dof_handler().n_dofs() << " dofs";
+      if (balance_refined > 0)
+        os << " (p4est's vertex balance refined " << balance_refined
+           << " more cells than one process would)";
       say(os.str());
       // the transferred state is not a converged state of the finer mesh: approach it again
       // from the last intermediate stage (the final delta directly can stall)
