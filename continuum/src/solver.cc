@@ -19,10 +19,12 @@
 #include <deque>
 #include <map>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "flow_problem.h"
 #include "grainlift/continuum/errors.h"
@@ -341,6 +343,12 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
         todo.pop_front();
       }
     };
+    // Test hook (FemMpi.FailureOnOneRankEndsEveryRank): GRAINLIFT_TEST_FAIL_ON_RANK=R makes
+    // rank R alone throw here, as a bad_alloc or a failed factorisation on one rank would.
+    if (const char* fail_on = std::getenv("GRAINLIFT_TEST_FAIL_ON_RANK");
+        fail_on && std::string(fail_on) == std::to_string(MpiSession::rank()))
+      throw std::runtime_error("GRAINLIFT_TEST_FAIL_ON_RANK=" + std::string(fail_on) +
+                               ": test failure before the nonlinear solve");
     run_stages();
 
     // ---- adaptive refinement: Kelly's indicator (jump of the velocity gradient across faces,
@@ -541,6 +549,9 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
   } catch (const std::exception& e) {
     out.converged = false;
     out.message = std::string("continuum solver failed: ") + e.what();
+    // on several ranks, a failure of this rank alone ends the run here (the others would wait
+    // for it in their next collective call); one of all ranks together is reported as usual
+    MpiSession::all_ranks_failed(MpiSession::FailureSite::continuum_solve, out.message, 1);
   }
   return out;
 }

@@ -6,6 +6,9 @@
 // relative (measured: ~1e-14), with the amg solver and with the direct one (UMFPACK on one
 // process, MUMPS on two). Adaptive cycles are the exception: p4est refines a few more cells
 // than one process (2:1 balance across vertices), see AdaptiveCycleOnTwoRanksGivesTheOneRankSolution.
+// Failures: one raised on every rank (bad input, no convergence) is reported once with its
+// usual exit code; one raised on a single rank ends all ranks (MPI_Abort) instead of leaving
+// the others waiting in a collective call.
 // Skipped when mpirun is not installed.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -133,6 +136,13 @@ long cells_of(const grainlift::RunResult& r) {
   return p == std::string::npos ? -1 : std::atol(r.meta.notes.c_str() + p + 6);
 }
 
+/// Number of occurrences of @p what in @p text.
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
 /// The case with the direct solver (UMFPACK on one process, MUMPS on two), fields off, and
 /// @p extra settings, on one and on two ranks: the same solution.
 void expect_two_ranks_match_one(const std::string& tag, const std::string& extra) {
@@ -242,7 +252,7 @@ TEST(FemMpi, AdaptiveCycleOnTwoRanksGivesTheOneRankSolution) {
 }
 
 // `grainlift sweep` would run every member on every rank: refused under mpirun, on every rank
-// before anything is run or written (exit 2).
+// before anything is run or written; the refusal is printed once (by rank 0), exit 2.
 TEST(FemMpi, UnsupportedOptionsOnTwoRanksAreRejectedCleanly) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   const TempDir dir("reject");
@@ -255,6 +265,53 @@ TEST(FemMpi, UnsupportedOptionsOnTwoRanksAreRejectedCleanly) {
                      &out);
   std::printf("%s\n", out.c_str());
   EXPECT_EQ(rc, 2);  // bad input
-  EXPECT_NE(out.find("sweep runs on one MPI process only"), std::string::npos);
+  EXPECT_EQ(count_of(out, "bad input"), 1u);
+  EXPECT_EQ(count_of(out, "sweep runs on one MPI process only"), 1u);
   EXPECT_FALSE(fs::exists(out_dir));
+}
+
+// A failure that every rank raises together ends the run as on one process: a value out of
+// range (every rank reads the case: exit 2) and a solve that does not converge (the residual
+// norms are global, so every rank stops: exit 1) are reported once, by rank 0, without
+// MPI_Abort.
+TEST(FemMpi, FailureOnEveryRankIsReportedOnce) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  const TempDir dir("every");
+  struct Failure { const char* set; int code; const char* message; };
+  for (const Failure f : {Failure{"continuum.refinement=9", 2, "bad input"},
+                          Failure{"continuum.max_iterations=1", 1, "did not converge"}}) {
+    std::string out;
+    const int rc = run_case(dir, " --quiet --set continuum.refinement=0 --set " +
+                                     std::string(f.set), 2, "out", out);
+    std::printf("%s\n", out.c_str());
+    EXPECT_EQ(rc, f.code) << f.set;
+    EXPECT_EQ(count_of(out, f.message), 1u) << f.set;
+    EXPECT_EQ(count_of(out, "grainlift: "), 1u) << f.set;  // one report in all
+    EXPECT_EQ(out.find("MPI_ABORT"), std::string::npos) << f.set;
+  }
+}
+
+// A failure on one rank only (here the test hook GRAINLIFT_TEST_FAIL_ON_RANK=1: rank 1 throws
+// just before the nonlinear solve, while rank 0 goes on into the solve's collective calls)
+// must not leave rank 0 waiting forever: rank 1 waits MpiSession::kFailureWaitSeconds (10 s)
+// for the others to fail with it, prints its message with its rank and ends both with
+// MPI_Abort. Non-zero exit within the 60 s of `timeout` (exit 124 would mean a hang), no result.
+TEST(FemMpi, FailureOnOneRankEndsEveryRank) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  const TempDir dir("one_rank");
+  std::ofstream(dir.path / "case.toml") << fem_case;
+  const fs::path out_dir = dir.path / "out";
+  std::string out;
+  const int rc = run("GRAINLIFT_TEST_FAIL_ON_RANK=1 timeout 60 " + std::string(kMpirun) +
+                         GRAINLIFT_BINARY + " run " + (dir.path / "case.toml").string() +
+                         " --solver fem --quiet --set continuum.refinement=0 --out " +
+                         out_dir.string(),
+                     &out);
+  std::printf("%s\n", out.c_str());
+  EXPECT_NE(rc, 0);
+  EXPECT_NE(rc, 124) << "timed out: the ranks hung";
+  EXPECT_NE(out.find("grainlift: error on MPI rank 1 of 2: continuum solver failed: "
+                     "GRAINLIFT_TEST_FAIL_ON_RANK=1"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(out_dir / "fem.h5"));
 }
