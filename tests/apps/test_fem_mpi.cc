@@ -5,7 +5,8 @@
 // inexact FGMRES steps): forces, torque, surface stresses and fields must agree to 1e-6
 // relative (measured: ~1e-14), with the amg solver and with the direct one (UMFPACK on one
 // process, MUMPS on two). Adaptive cycles are the exception: p4est refines a few more cells
-// than one process (2:1 balance across vertices), see AdaptiveCycleOnTwoRanksGivesTheOneRankSolution.
+// than one process (2:1 balance across vertices), see
+// AdaptiveCycleOnTwoRanksGivesTheOneRankSolution.
 // Failures: one raised on every rank (bad input, no convergence) is reported once with its
 // usual exit code; one raised on a single rank ends all ranks (MPI_Abort) instead of leaving
 // the others waiting in a collective call.
