@@ -77,13 +77,18 @@ std::vector<double> padding_steps(double b, double pad) {
 /// transfinite interpolation is initialised on exactly the serial coarse cells. (Copying the
 /// decorated serial mesh with copy_triangulation instead made TransfiniteInterpolationManifold::
 /// initialize() throw ExcTransformationFailed in an earlier attempt.) The refinement is the
-/// same on both; a rank flags only its own cells.
+/// same on both; a rank flags only its own cells. The serial mesh limits the level jump to one
+/// across vertices too (limit_level_difference_at_vertices), as p4est's 2:1 balance does: the
+/// adaptive cycles then refine the same cells on one and on N ranks (with faces only, a cell
+/// touching a block corner two levels finer would stay coarse on one process and be refined by
+/// p4est). Uniform meshes never have such a jump: the rule changes nothing there.
 class IntruderMesh {
  public:
   IntruderMesh(double R, double W, double H, int refinement) : R_(R), W_(W), H_(H) {
     b_ = std::min(2 * R, 0.5 * (R + std::min(W, H)));
     if (MpiSession::size() == 1) {  // (MPI may not even be initialised)
-      tria_ = std::make_unique<Triangulation<2>>();
+      tria_ = std::make_unique<Triangulation<2>>(
+          Triangulation<2>::limit_level_difference_at_vertices);
       make_coarse(*tria_);
     } else {
       Triangulation<2> coarse;
@@ -357,12 +362,8 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     // Distributed mesh: each rank estimates its own cells (the ghosted solution gives the
     // neighbours across the partition), the 30% are counted over all ranks, and the old solution
     // travels with the cells (parallel::distributed::SolutionTransfer, from a ghosted vector).
-    // The marked cells are those of one process, but p4est keeps the mesh 2:1 balanced across
-    // vertices where the serial Triangulation only limits the level jump across faces: a cell
-    // that touches a cell two levels finer at a corner only (next to the corners of the finer
-    // block around the intruder) is refined as well (counted in the log line). From the first
-    // cycle on, the mesh of N > 1 ranks is then finer than the one-process mesh by a few cells;
-    // it does not depend on N.
+    // The marked cells are those of one process, and both meshes limit level jumps across
+    // vertices (see IntruderMesh): the refined mesh is the one-process mesh.
     auto* const distributed =
         dynamic_cast<parallel::distributed::Triangulation<internal::dim>*>(&tria);
     for (int cycle = 0; cycle < c.adaptive_cycles && problem.report().converged; ++cycle) {
@@ -372,23 +373,13 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       KellyErrorEstimator<internal::dim>::estimate(
           problem.mapping(), problem.dof_handler(), QGauss<internal::dim - 1>(3), {}, old_ghosted,
           indicator, problem.dof_handler().get_fe().component_mask(velocity));
-      types::global_cell_index balance_refined = 0;  // refined beyond the serial rule
       if (distributed) {
         parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
             *distributed, indicator, 0.3, 0.0);
-        tria.prepare_coarsening_and_refinement();
-        types::global_cell_index flagged = 0;
-        for (const auto& cell : tria.active_cell_iterators())
-          if (cell->is_locally_owned() && cell->refine_flag_set()) ++flagged;
-        constexpr unsigned int added = GeometryInfo<internal::dim>::max_children_per_cell - 1;
-        const types::global_cell_index expected =
-            tria.n_global_active_cells() +
-            added * Utilities::MPI::sum(flagged, tria.get_communicator());
         parallel::distributed::SolutionTransfer<internal::dim, internal::VectorType> transfer(
             problem.dof_handler());
         transfer.prepare_for_coarsening_and_refinement(old_ghosted);
         tria.execute_coarsening_and_refinement();
-        balance_refined = (tria.n_global_active_cells() - expected) / added;
         problem.setup_system();
         transfer.interpolate(problem.solution());  // owned entries
       } else {
@@ -405,9 +396,6 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
       std::ostringstream os;
       os << "continuum: adaptive cycle " << cycle + 1 << " of " << c.adaptive_cycles << ": "
          << tria.n_global_active_cells() << " cells, " << problem.dof_handler().n_dofs() << " dofs";
-      if (balance_refined > 0)
-        os << " (p4est's vertex balance refined " << balance_refined
-           << " more cells than one process would)";
       say(os.str());
       // the transferred state is not a converged state of the finer mesh: approach it again
       // from the last intermediate stage (the final delta directly can stall)
