@@ -193,6 +193,16 @@ int cmd_sweep(const RunArgs& a, const std::string& vary) {
   return exit_success;
 }
 
+/// Prints @p text, the report of an exception that ended the command, and returns @p code.
+/// Under mpirun, if every rank failed here together (bad input, which every rank reads, or a
+/// solve that did not converge), rank 0 alone prints; if some ranks failed alone, this one
+/// prints @p what with its rank and ends all ranks (failed_on_every_rank()).
+int report_failure(const std::string& text, const std::string& what, int code) {
+  if (process_count() > 1) failed_on_every_rank(what, code);  // returns only if all did
+  if (process_rank() == 0) std::cerr << text;
+  return code;
+}
+
 void add_run_options(CLI::App* cmd, RunArgs& a) {
   cmd->add_option("CASE", a.case_path, "case file (TOML), e.g. cases/demo/demo.toml")->required();
   cmd->add_option("--solver", a.solver, "which solver to run")
@@ -268,14 +278,13 @@ int main_with_args(int argc, char** argv) {
   } catch (const InputError& e) {
     std::string msg = e.what();
     if (!msg.empty() && msg.back() != '\n') msg += '\n';
-    std::cerr << "grainlift: bad input:\n" << msg;
-    return exit_bad_input;
-  } catch (const RunError& e) {
-    std::cerr << "grainlift: run failed: " << e.what() << "\n";
-    return exit_run_failed;
-  } catch (const std::exception& e) {
-    std::cerr << "grainlift: run failed: " << e.what() << "\n";
-    return exit_run_failed;
+    return report_failure("grainlift: bad input:\n" + msg, e.what(), exit_bad_input);
+  } catch (const std::exception& e) {  // RunError and anything else
+    return report_failure(std::string("grainlift: run failed: ") + e.what() + "\n", e.what(),
+                          exit_run_failed);
+  } catch (...) {
+    return report_failure("grainlift: run failed: unknown exception\n", "unknown exception",
+                          exit_run_failed);
   }
   return exit_success;
 }

@@ -38,4 +38,15 @@ int process_count() {
 #endif
 }
 
+bool failed_on_every_rank(const std::string& what, int code) {
+#ifdef GRAINLIFT_HAVE_FEM
+  return continuum::MpiSession::all_ranks_failed(continuum::MpiSession::FailureSite::command,
+                                                 what, code);
+#else
+  (void)what;
+  (void)code;
+  return true;
+#endif
+}
+
 }  // namespace grainlift::app

@@ -151,8 +151,9 @@ std::vector<KeySpec> make_keys() {
                       "see docs/continuum-model.md)"));
   k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
                       "adaptive refinement cycles after the first solve: each refines the 30% "
-                      "of the cells with the largest Kelly indicator of the velocity (one MPI "
-                      "process only)"));
+                      "of the cells with the largest Kelly indicator of the velocity (level "
+                      "jumps of at most one across faces and vertices; the same mesh on one "
+                      "and on N MPI ranks)"));
   k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));

@@ -4,8 +4,11 @@
 // differ from the one-process run only by the tolerances of the solves (nonlinear 1e-8 |R_0|,
 // inexact FGMRES steps): forces, torque, surface stresses and fields must agree to 1e-6
 // relative (measured: ~1e-14), with the amg solver and with the direct one (UMFPACK on one
-// process, MUMPS on two). What the distributed solve does not support (adaptive cycles) must
-// stop every rank with bad input (exit 2) before any file is written.
+// process, MUMPS on two), after adaptive cycles too (both meshes limit level jumps across
+// vertices, so they refine the same cells).
+// Failures: one raised on every rank (bad input, no convergence) is reported once with its
+// usual exit code; one raised on a single rank ends all ranks (MPI_Abort) instead of leaving
+// the others waiting in a collective call.
 // Skipped when mpirun is not installed.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -27,6 +30,10 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* kMpirun = "mpirun --allow-run-as-root --oversubscribe -np 2 ";
+
+std::string mpirun(int ranks) {
+  return "mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
+}
 
 int run(const std::string& command, std::string* output) {
   const grainlift::test_support::CommandOutcome o = grainlift::test_support::run_command(command);
@@ -79,24 +86,31 @@ double relative_difference(const std::vector<double>& a, const std::vector<doubl
   return scale > 0 ? diff / scale : diff;
 }
 
-/// The case with @p extra settings run on one process (into dir/one) and on two ranks (dir/two).
-void run_one_and_two(const TempDir& dir, const std::string& extra, std::string& log_two) {
+/// `grainlift run` of the case with @p extra settings into dir/@p sub: on one process without
+/// mpirun (@p ranks = 1), else under mpirun -np @p ranks. Returns the exit code.
+int run_case(const TempDir& dir, const std::string& extra, int ranks, const std::string& sub,
+             std::string& log) {
   std::ofstream(dir.path / "case.toml") << fem_case;
-  const std::string args =
-      " run " + (dir.path / "case.toml").string() + " --solver fem" + extra + " --out ";
-  std::string log_one;
-  ASSERT_EQ(run(std::string(GRAINLIFT_BINARY) + args + (dir.path / "one").string(), &log_one), 0)
-      << log_one;
-  ASSERT_EQ(run(kMpirun + std::string(GRAINLIFT_BINARY) + args + (dir.path / "two").string(), &log_two), 0)
-      << log_two;
+  const std::string command = (ranks > 1 ? mpirun(ranks) : std::string()) + GRAINLIFT_BINARY +
+                              " run " + (dir.path / "case.toml").string() + " --solver fem" +
+                              extra + " --out " + (dir.path / sub).string();
+  return run(command, &log);
 }
 
-/// The same discrete solution to 1e-6 relative: drag, lift, torque, sigma_n and sigma_t, and
-/// every field present in both.
+/// The case with @p extra settings run on one process (into dir/one) and on two ranks (dir/two).
+void run_one_and_two(const TempDir& dir, const std::string& extra, std::string& log_two) {
+  std::string log_one;
+  ASSERT_EQ(run_case(dir, extra, 1, "one", log_one), 0) << log_one;
+  ASSERT_EQ(run_case(dir, extra, 2, "two", log_two), 0) << log_two;
+}
+
+/// The same discrete solution to @p tol relative: drag, lift, torque, sigma_n and sigma_t, and
+/// (@p with_fields) every field present in both.
 void expect_same_solution(const std::string& tag, const grainlift::RunResult& a,
-                          const grainlift::RunResult& b) {
+                          const grainlift::RunResult& b, double tol = 1e-6,
+                          bool with_fields = true) {
   ASSERT_TRUE(a.means && b.means && a.surface && b.surface);
-  const double tol = 1e-6, drag = std::abs(a.means->drag);
+  const double drag = std::abs(a.means->drag);
   ASSERT_GT(drag, 0);
   EXPECT_NEAR(b.means->drag, a.means->drag, tol * drag);
   EXPECT_NEAR(b.means->lift, a.means->lift, tol * drag);
@@ -104,16 +118,29 @@ void expect_same_solution(const std::string& tag, const grainlift::RunResult& a,
   EXPECT_LT(relative_difference(a.surface->sigma_n, b.surface->sigma_n), tol);
   EXPECT_LT(relative_difference(a.surface->sigma_t, b.surface->sigma_t), tol);
   EXPECT_EQ(a.fields.has_value(), b.fields.has_value());
-  if (a.fields && b.fields)
+  if (with_fields && a.fields && b.fields)
     for (const auto member : {&grainlift::FieldGrid::velocity_x, &grainlift::FieldGrid::velocity_y,
                               &grainlift::FieldGrid::pressure, &grainlift::FieldGrid::stress_xx,
                               &grainlift::FieldGrid::stress_xy, &grainlift::FieldGrid::stress_yy}) {
       ASSERT_TRUE((*a.fields).*member && (*b.fields).*member);
       EXPECT_LT(relative_difference(*((*a.fields).*member), *((*b.fields).*member)), tol);
     }
-  std::printf("%s: drag %.12g / %.12g, lift %.12g / %.12g, torque %.12g / %.12g (1 / 2 ranks)\n",
+  std::printf("%s: drag %.12g / %.12g, lift %.12g / %.12g, torque %.12g / %.12g (a / b)\n",
               tag.c_str(), a.means->drag, b.means->drag, a.means->lift, b.means->lift,
               a.means->torque, b.means->torque);
+}
+
+/// Active cells of the final mesh, from the run's notes ("cells N, dofs ..."); -1 if absent.
+long cells_of(const grainlift::RunResult& r) {
+  const std::size_t p = r.meta.notes.find("cells ");
+  return p == std::string::npos ? -1 : std::atol(r.meta.notes.c_str() + p + 6);
+}
+
+/// Number of occurrences of @p what in @p text.
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
 }
 
 /// The case with the direct solver (UMFPACK on one process, MUMPS on two), fields off, and
@@ -184,22 +211,92 @@ TEST(FemMpi, LinearisedGravityOnTwoRanksGivesTheOneRankSolution) {
                                            " --set continuum.gravity_treatment='\"linearised\"'");
 }
 
+// One adaptive cycle from refinement 0 (direct solver). Kelly's indicator of a cell does not
+// depend on the partition and the 30% are counted over all ranks, so two ranks mark the cells
+// one process marks; p4est's 2:1 balance across vertices refines a cell that touches a cell two
+// levels finer at a corner only, and so does the serial mesh (limit_level_difference_at_vertices):
+// the same refined mesh (225 cells: 4 of them refined for that rule next to the block corners),
+// the same discrete equations, so the same solution, fields included (measured ~1e-14). Checks
+// the distributed estimate, the parallel marking and the transfer of the solution.
+TEST(FemMpi, AdaptiveCycleOnTwoRanksGivesTheOneRankSolution) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  const TempDir dir("adaptive");
+  std::string log_two;
+  ASSERT_NO_FATAL_FAILURE(run_one_and_two(dir,
+                                          " --set continuum.linear_solver='\"direct\"'"
+                                          " --set continuum.refinement=0"
+                                          " --set continuum.adaptive_cycles=1",
+                                          log_two));
+  const grainlift::RunResult one = grainlift::read_result((dir.path / "one" / "fem.h5").string());
+  const grainlift::RunResult two = grainlift::read_result((dir.path / "two" / "fem.h5").string());
+  EXPECT_NE(log_two.find("adaptive cycle 1 of 1"), std::string::npos) << log_two;
+  std::printf("cells: %ld on one process, %ld on two ranks\n", cells_of(one), cells_of(two));
+  EXPECT_GT(cells_of(one), 108);  // refinement 0 has 108 cells: the cycle refined
+  EXPECT_EQ(cells_of(two), cells_of(one));
+  expect_same_solution("adaptive", one, two);
+}
+
+// `grainlift sweep` would run every member on every rank: refused under mpirun, on every rank
+// before anything is run or written; the refusal is printed once (by rank 0), exit 2.
 TEST(FemMpi, UnsupportedOptionsOnTwoRanksAreRejectedCleanly) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   const TempDir dir("reject");
-  struct Refused { const char* set; const char* key; };
-  for (const Refused r : {Refused{"continuum.adaptive_cycles=1", "continuum.adaptive_cycles"}}) {
-    std::ofstream(dir.path / "case.toml") << fem_case;
-    const fs::path out_dir = dir.path / "out";
+  std::ofstream(dir.path / "case.toml") << fem_case;
+  const fs::path out_dir = dir.path / "out";
+  std::string out;
+  const int rc = run(kMpirun + std::string(GRAINLIFT_BINARY) + " sweep " +
+                         (dir.path / "case.toml").string() +
+                         " --solver fem --vary continuum.refinement=0,1 --out " + out_dir.string(),
+                     &out);
+  std::printf("%s\n", out.c_str());
+  EXPECT_EQ(rc, 2);  // bad input
+  EXPECT_EQ(count_of(out, "bad input"), 1u);
+  EXPECT_EQ(count_of(out, "sweep runs on one MPI process only"), 1u);
+  EXPECT_FALSE(fs::exists(out_dir));
+}
+
+// A failure that every rank raises together ends the run as on one process: a value out of
+// range (every rank reads the case: exit 2) and a solve that does not converge (the residual
+// norms are global, so every rank stops: exit 1) are reported once, by rank 0, without
+// MPI_Abort.
+TEST(FemMpi, FailureOnEveryRankIsReportedOnce) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  const TempDir dir("every");
+  struct Failure { const char* set; int code; const char* message; };
+  for (const Failure f : {Failure{"continuum.refinement=9", 2, "bad input"},
+                          Failure{"continuum.max_iterations=1", 1, "did not converge"}}) {
     std::string out;
-    const int rc = run(kMpirun + std::string(GRAINLIFT_BINARY) + " run " +
-                           (dir.path / "case.toml").string() + " --solver fem --set " + r.set +
-                           " --out " + out_dir.string(),
-                       &out);
+    const int rc = run_case(dir, " --quiet --set continuum.refinement=0 --set " +
+                                     std::string(f.set), 2, "out", out);
     std::printf("%s\n", out.c_str());
-    EXPECT_EQ(rc, 2) << r.set;  // bad input
-    EXPECT_NE(out.find(r.key), std::string::npos) << r.set;
-    EXPECT_NE(out.find("one MPI process"), std::string::npos) << r.set;
-    EXPECT_FALSE(fs::exists(out_dir / "fem.h5")) << r.set;
+    EXPECT_EQ(rc, f.code) << f.set;
+    EXPECT_EQ(count_of(out, f.message), 1u) << f.set;
+    EXPECT_EQ(count_of(out, "grainlift: "), 1u) << f.set;  // one report in all
+    EXPECT_EQ(out.find("MPI_ABORT"), std::string::npos) << f.set;
   }
+}
+
+// A failure on one rank only (here the test hook GRAINLIFT_TEST_FAIL_ON_RANK=1: rank 1 throws
+// just before the nonlinear solve, while rank 0 goes on into the solve's collective calls)
+// must not leave rank 0 waiting forever: rank 1 waits MpiSession::kFailureWaitSeconds (10 s)
+// for the others to fail with it, prints its message with its rank and ends both with
+// MPI_Abort. Non-zero exit within the 60 s of `timeout` (exit 124 would mean a hang), no result.
+TEST(FemMpi, FailureOnOneRankEndsEveryRank) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  const TempDir dir("one_rank");
+  std::ofstream(dir.path / "case.toml") << fem_case;
+  const fs::path out_dir = dir.path / "out";
+  std::string out;
+  const int rc = run("GRAINLIFT_TEST_FAIL_ON_RANK=1 timeout 60 " + std::string(kMpirun) +
+                         GRAINLIFT_BINARY + " run " + (dir.path / "case.toml").string() +
+                         " --solver fem --quiet --set continuum.refinement=0 --out " +
+                         out_dir.string(),
+                     &out);
+  std::printf("%s\n", out.c_str());
+  EXPECT_NE(rc, 0);
+  EXPECT_NE(rc, 124) << "timed out: the ranks hung";
+  EXPECT_NE(out.find("grainlift: error on MPI rank 1 of 2: continuum solver failed: "
+                     "GRAINLIFT_TEST_FAIL_ON_RANK=1"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(out_dir / "fem.h5"));
 }
