@@ -357,13 +357,13 @@ def part_hdelta(run_dir, img_dir):
     plt.close(fig)
 
 
-def part_box(run_dir, img_dir):
-    rows = series(run_dir, "box", "box_x*", lambda n: float(n.split("_x")[1]))
+def part_box(run_dir, img_dir, sub="box", title=""):
+    rows = series(run_dir, sub, "box_x*", lambda n: float(n.split("_x")[1]))
     if not rows:
-        print("(box: no runs)")
+        print(f"({sub}: no runs)")
         return
-    print_table("FE box size, h = 16 D (half sizes f x [0.06, 0.04] m = f x [4, 2.67] D)", "f", rows,
-                ("cd", "lb", "cells", "time"))
+    print_table(f"FE box size{title}, h = 16 D (half sizes f x [0.06, 0.04] m = f x [4, 2.67] D)",
+                "f", rows, ("cd", "lb", "cells", "time"))
 
 
 def part_spin(run_dir, img_dir):
@@ -397,6 +397,7 @@ def main():
     part_hdelta(run_dir, img_dir)
     part_wellposed(run_dir, img_dir)
     part_box(run_dir, img_dir)
+    part_box(run_dir, img_dir, "box_bg", ", Barker-Gray law")
     part_spin(run_dir, img_dir)
     return 0
 

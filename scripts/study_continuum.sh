@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
-#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|spin|plots|all] [OUT_DIR]
+#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|spin|plots|all] [OUT_DIR]
 # Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
@@ -14,6 +14,7 @@
 #   wellposed  the same with the well-posed Barker-Gray law (regularisation = "barker_gray"):
 #          mesh levels 0..4 at h = 8 D, delta 1e-2..1e-4 at refinement 3      ~25 min
 #   box    FE box size at h = 16 D                                       ~5 min
+#   box_bg the same with the Barker-Gray law, f = 1..6                   ~10 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
 #   plots  figures into docs/img from OUT_DIR
 set -euo pipefail
@@ -101,6 +102,14 @@ part_box() {
     run "box/box_x$f" --set "continuum.box_half_size=$b" --set "intruder.position=[0.0,$(ypos 16)]"
   done
 }
+part_box_bg() {  # the box study with the Barker-Gray law, to f = 6 (the box top at the free surface)
+  for f in 1 2 3 4 6; do
+    local b
+    b=$(awk -v f=$f 'BEGIN { printf "[%.4g,%.4g]", 0.06 * f, 0.04 * f }')
+    run "box_bg/box_x$f" --set "continuum.box_half_size=$b" --set "intruder.position=[0.0,$(ypos 16)]" \
+      --set 'continuum.regularisation="barker_gray"'
+  done
+}
 part_spin() {
   for wall in no_slip coulomb; do
     for om in 0 10 20 40 80 200; do
@@ -126,8 +135,9 @@ case "$PART" in
   hdelta) part_hdelta ;;
   wellposed) part_wellposed ;;
   box) part_box ;;
+  box_bg) part_box_bg ;;
   spin) part_spin ;;
   plots) part_plots ;;
-  all) part_split; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_spin; part_plots ;;
-  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|spin|plots|all] [OUT_DIR]" >&2; exit 2 ;;
+  all) part_split; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_spin; part_plots ;;
+  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|spin|plots|all] [OUT_DIR]" >&2; exit 2 ;;
 esac
