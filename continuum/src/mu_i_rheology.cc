@@ -28,8 +28,12 @@ double barker_criterion(double mu, double nu) {
 }
 
 InertialRange well_posed_range(const RheologyParams& p) {
-  const auto c = [&p](double I) { return barker_criterion(mu_jop(p, I), I * dmu_jop(p, I) / mu_jop(p, I)); };
-  // scan log-spaced I for the first and last sign change, then bisect each
+  const auto c = [&p](double I) {
+    const double mu = mu_jop(p, I);
+    return barker_criterion(mu, I * dmu_jop(p, I) / mu);
+  };
+  // scan log-spaced I from 1e-10 to 1e4 for where C turns negative and, after that, where it
+  // turns positive again; bisect each crossing
   const auto bisect = [&c](double a, double b) {  // c(a) and c(b) differ in sign
     for (int k = 0; k < 100 && b - a > 1e-14 * b; ++k) {
       const double m = std::sqrt(a * b);
@@ -105,6 +109,7 @@ double MuIRheology::inertial_number_for_friction(double mu) const {
 
 double MuIRheology::well_posedness(double I) const {
   const double mu = friction(I);
+  if (!(mu > 0)) return 0;  // I = 0 on the Barker-Gray branch: the marginal limit
   return barker_criterion(mu, I * dfriction_dI(I) / mu);
 }
 
