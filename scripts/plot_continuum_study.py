@@ -301,6 +301,10 @@ def part_wellposed(run_dir, img_dir):
     if deltas:
         print_table("Barker-Gray law, delta at refinement 3, h = 8 D", "delta (1/s)", deltas,
                     ("cd", "lb", "steps", "time"))
+    coulomb = series(run_dir, "wellposed", "bg_coulomb_r*", lambda n: int(n.split("_r")[1]))
+    if coulomb:
+        print_table("Barker-Gray law, Coulomb wall (mu_w = 0.5), h = 8 D", "refinement", coulomb,
+                    ("cells", "cd", "lb", "steps", "time"))
     jop = series(run_dir, "mesh", "full_r*", lambda n: int(n.split("_r")[1]))
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     for rows, style, lab in ((bg, "o-", "Barker-Gray (well posed)"),

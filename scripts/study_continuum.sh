@@ -12,7 +12,8 @@
 #          at 0.1 and 0.03 V/R: the discretisation converging for a fixed regularised
 #          problem                                                        ~30 min
 #   wellposed  the same with the well-posed Barker-Gray law (regularisation = "barker_gray"):
-#          mesh levels 0..4 at h = 8 D, delta 1e-2..1e-4 at refinement 3      ~25 min
+#          mesh levels 0..5 at h = 8 D (5 on mpirun -np 2), delta 1e-2..1e-4 at
+#          refinement 3                                                  ~40 min
 #   box    FE box size at h = 16 D                                       ~5 min
 #   box_bg the same with the Barker-Gray law, f = 1..6                   ~10 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
@@ -32,11 +33,12 @@ RHO_G=$(awk 'BEGIN { print 0.82 * 2.5 * 9.81 }')   # rho g of the case (2D units
 ypos() { awk -v h="$1" -v D=$D 'BEGIN { printf "%.6g", 0.06 - h * D }'; }
 p0() { awk -v h="$1" -v D=$D -v rg="$RHO_G" 'BEGIN { printf "%.8g", rg * h * D }'; }
 
+LAUNCH=()  # a launcher for run(), e.g. (mpirun -np 2)
 run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rerun); log kept
   local dir="$O/$1"; shift
   [[ -f "$dir/fem.h5" ]] && return 0
   mkdir -p "$dir"
-  "$G" run "$CASE" "${S[@]}" "$@" --out "$dir" > "$dir.log" 2>&1 ||
+  "${LAUNCH[@]}" "$G" run "$CASE" "${S[@]}" "$@" --out "$dir" > "$dir.log" 2>&1 ||
     echo "FAILED: $dir (see $dir.log)" | tee -a "$O/failures.txt"
   grep -E "^ fem:" "$dir.log" || true
 }
@@ -91,8 +93,16 @@ part_wellposed() {
   for r in 0 1 2 3 4; do
     run "wellposed/bg_r$r" "${bg[@]}" --set continuum.refinement=$r
   done
+  # refinement 5 (705,088 unknowns): MUMPS on two ranks, 10 min and 2.7 GB per rank
+  LAUNCH=(mpirun --allow-run-as-root --oversubscribe -np 2)
+  run "wellposed/bg_r5" "${bg[@]}" --set continuum.refinement=5
+  LAUNCH=()
   for d in 1e-2 1e-4; do
     run "wellposed/bg_delta_$d" "${bg[@]}" --set continuum.refinement=3 --set continuum.delta=$d
+  done
+  for r in 2 3; do  # the Coulomb wall (mu_w = intruder.friction = 0.5)
+    run "wellposed/bg_coulomb_r$r" "${bg[@]}" --set continuum.refinement=$r \
+      --set 'continuum.wall="coulomb"'
   done
 }
 part_box() {

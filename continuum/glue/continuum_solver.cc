@@ -130,11 +130,13 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   q.pressure_scale = cfg.ambient_pressure;
   r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
                              "krylov iterations {}, linear solver {}, final relative residual {:.3g}, "
-                             "continuation splits {}{}",
+                             "continuation splits {}, sheared share {:.3g}, ill-posed share of "
+                             "it {:.3g}{}",
                              out.cells, out.dofs, out.nonlinear_iterations,
                              out.linear_iterations, out.krylov_iterations,
                              cfg.linear_solver == LinearSolver::amg ? "amg" : "direct",
-                             out.final_residual, out.continuation_splits,
+                             out.final_residual, out.continuation_splits, out.sheared_share,
+                             out.ill_posed_share,
                              cfg.linearised_gravity
                                  ? fmt::format(", linearised gravity correction {:.3g} s",
                                                out.correction_seconds)

@@ -738,6 +738,40 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
 
 // ---------------------------------------------------------------------------- post-processing
 
+std::array<double, 2> FlowProblem::ill_posed_share() const {
+  const VectorType state = ghosted(solution_);
+  const QGauss<dim> quad(3);
+  FEValues<dim> fev(mapping_, fe_, quad, update_values | update_gradients | update_JxW_values);
+  const unsigned int nq = quad.size();
+  std::vector<SymmetricTensor<2, dim>> sym(nq);
+  std::vector<double> pval(nq);
+  RheologyInputs in;
+  in.resize(nq);
+  RheologyOutputs out;
+  out.resize(nq);
+  const double rate = setup_.viscosity->regularised_strain_rate();
+  double area[3] = {0, 0, 0};  // all, sheared, sheared and ill posed
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    fev.reinit(cell);
+    fev[kVelocity].get_function_symmetric_gradients(state, sym);
+    fev[kPressure].get_function_values(state, pval);
+    for (unsigned int q = 0; q < nq; ++q) {
+      in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);
+      in.pressure[q] = pval[q];
+    }
+    setup_.viscosity->evaluate(in, out);
+    for (unsigned int q = 0; q < nq; ++q) {
+      area[0] += fev.JxW(q);
+      if (!(std::sqrt(in.strain_rate_sq[q]) > rate) || !(pval[q] > 0)) continue;
+      area[1] += fev.JxW(q);
+      if (setup_.viscosity->well_posedness(out.inertial_number[q]) > 0) area[2] += fev.JxW(q);
+    }
+  }
+  const auto total = sum_over_ranks({area[0], area[1], area[2]}, comm_);
+  return {total[0] > 0 ? total[1] / total[0] : 0.0, total[1] > 0 ? total[2] / total[1] : 0.0};
+}
+
 PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, const Vec2& u) const {
   RheologyInputs in;
   in.resize(1);

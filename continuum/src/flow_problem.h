@@ -149,6 +149,10 @@ class FlowProblem {
   /// boundary mass matrix). Converges like the reaction, faster than sigma(grad u_h).n.
   /// Returns t_h at the boundary point closest in angle to @p angle about @p centre.
   Vec2 consistent_traction(dealii::types::boundary_id id, const Point2& centre, double angle) const;
+  /// Area fractions of the medium: [0] where it is sheared beyond the viscosity model's
+  /// regularisation (|D| > regularised_strain_rate()), [1] the part of that where the model is
+  /// ill posed at the local I (ViscosityModel::well_posedness() > 0). Collective.
+  std::array<double, 2> ill_posed_share() const;
   /// State at an arbitrary point; false when the point is not in the mesh.
   bool point_state(const Point2& x, PointState& out) const;
   /// States at many points with one reduction: each point is evaluated by the lowest rank that

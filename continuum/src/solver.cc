@@ -451,6 +451,21 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.krylov_iterations = rep.krylov_iterations;
     out.initial_residual = rep.initial_residual;
     out.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
+    // where the law is ill posed the solution depends on the mesh: say so
+    const auto share = problem.ill_posed_share();
+    out.sheared_share = share[0];
+    out.ill_posed_share = share[1];
+    if (out.ill_posed_share > 0.05) {
+      std::ostringstream os;
+      os << "continuum: warning: in " << std::lround(100 * out.ill_posed_share)
+         << "% of the sheared medium (" << std::lround(100 * out.sheared_share)
+         << "% of the area) mu(I) is ill posed at the local I (Barker et al. 2015; Jop's law "
+            "with these parameters only for "
+         << well_posed_range(c.rheology).low << " < I < " << well_posed_range(c.rheology).high
+         << "): the solution will change with the mesh. continuum.regularisation = "
+            "\"barker_gray\" is well posed at low I (docs/continuum-model.md)";
+      say(os.str());
+    }
     out.cells = static_cast<int>(tria.n_global_active_cells());
     out.dofs = static_cast<int>(problem.dof_handler().n_dofs());
 

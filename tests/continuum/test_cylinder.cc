@@ -150,7 +150,8 @@ TEST(Cylinder, SampledFieldsAndVtu) {
 // the symmetric case both must converge and give no lift (|L| < 1e-6 D); the drags differ only
 // through the slow zones where I < I_N (here V/R = 2 1/s and p ~ P0..10 P0 = 1-10 kPa, so the
 // sheared medium has I ~ 1e-3..1e-2, mostly below I_N): Barker-Gray's drag must be lower, by
-// less than 20% (measured 867.2 against 958.0 N/m, -9.5%, at refinement 1).
+// less than 20% (measured 867.2 against 958.0 N/m, -9.5%, at refinement 1). The ill-posedness
+// diagnostic must see the difference between the laws (below).
 TEST(Cylinder, BarkerGrayConvergesAndWeakensTheLowIFlow) {
   ContinuumConfig c = coarse_case();
   const ContinuumOutput cm = solve_flow(c);
@@ -159,6 +160,15 @@ TEST(Cylinder, BarkerGrayConvergesAndWeakensTheLowIFlow) {
   ASSERT_TRUE(cm.converged) << cm.message;
   ASSERT_TRUE(bg.converged) << bg.message;
   std::printf("drag: Chauchat-Medale %.6g, Barker-Gray %.6g\n", -cm.fx, -bg.fx);
+  // the diagnostic of ill-posedness (Barker et al. 2015): Jop's law is ill posed below
+  // I = 0.019, so most of this slow flow's sheared area is (more than half); Barker-Gray's law
+  // is well posed for every I < 0.86, so none of it
+  std::printf("sheared area: Jop %.3f (ill posed %.3f), Barker-Gray %.3f (ill posed %.3f)\n",
+              cm.sheared_share, cm.ill_posed_share, bg.sheared_share, bg.ill_posed_share);
+  EXPECT_GT(cm.sheared_share, 0);
+  EXPECT_GT(cm.ill_posed_share, 0.5);
+  EXPECT_GT(bg.sheared_share, 0);
+  EXPECT_EQ(bg.ill_posed_share, 0.0);
   EXPECT_LT(-bg.fx, -cm.fx);
   EXPECT_GT(-bg.fx, 0.8 * -cm.fx);
   EXPECT_LT(std::abs(bg.fy), 1e-6 * std::abs(bg.fx));

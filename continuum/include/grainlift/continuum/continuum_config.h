@@ -111,6 +111,10 @@ struct ContinuumOutput {
   bool inertia_used = false;              ///< whether rho (u.grad)u was included
   double correction_seconds = 0;          ///< linearised gravity: time of the correction (setup + one solve)
   int continuation_splits = 0;            ///< intermediate stages inserted after a failed stage
+  /// share of the medium's area sheared beyond the regularisation (|D| > 5 delta), and the part
+  /// of it where mu(I) is ill posed at the local I (Barker et al. 2015): there the solution
+  /// depends on the mesh (docs/continuum-model.md)
+  double sheared_share = 0, ill_posed_share = 0;
   double force_fx_surface = 0, force_fy_surface = 0, torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
   std::string message;                    ///< why it failed when !converged
 };

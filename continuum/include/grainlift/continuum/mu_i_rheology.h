@@ -38,6 +38,12 @@ class ViscosityModel {
   virtual void evaluate(const RheologyInputs& in, RheologyOutputs& out) const = 0;
   /// @brief True when eta depends on the solution (the problem is then nonlinear).
   virtual bool is_nonlinear() const = 0;
+  /// @brief barker_criterion() of the law at inertial number @p I where it is not regularised
+  /// (< 0: well posed); a viscous fluid is well posed everywhere.
+  virtual double well_posedness(double /*inertial_number*/) const { return -1; }
+  /// @brief Strain rate (|D|, 1/s) below which the law's regularisation makes it well posed
+  /// whatever I (0: none).
+  virtual double regularised_strain_rate() const { return 0; }
 };
 
 /// @brief Constant viscosity (Newtonian verification cases).
@@ -94,7 +100,10 @@ class MuIRheology final : public ViscosityModel {
   /// @brief Inverse of the unregularised mu(I) for mu_s < mu < mu_2 (used by tests).
   double inertial_number_for_friction(double mu) const;
   /// @brief barker_criterion() of the friction law in use at @p I (< 0: well posed there).
-  double well_posedness(double inertial_number) const;
+  double well_posedness(double inertial_number) const override;
+  /// @brief 5 delta: the Chauchat-Medale form's rate sensitivity delta^2 / (|D|^2 + delta^2)
+  /// keeps the law well posed roughly below it (docs/continuum-model.md; our estimate).
+  double regularised_strain_rate() const override { return 5 * p_.delta; }
   /// @brief I_N in use: params().barker_gray_IN, or when that is 0 1.5 times the lower end of
   /// well_posed_range() (kept below the geometric mean of its ends).
   double barker_gray_IN() const { return bg_IN_; }
