@@ -456,12 +456,13 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     out.sheared_share = share[0];
     out.ill_posed_share = share[1];
     if (out.ill_posed_share > 0.05) {
+      const InertialRange w = well_posed_range(c.rheology);
       std::ostringstream os;
       os << "continuum: warning: in " << std::lround(100 * out.ill_posed_share)
          << "% of the sheared medium (" << std::lround(100 * out.sheared_share)
          << "% of the area) mu(I) is ill posed at the local I (Barker et al. 2015; Jop's law "
             "with these parameters only for "
-         << well_posed_range(c.rheology).low << " < I < " << well_posed_range(c.rheology).high
+         << w.low << " < I < " << w.high
          << "): the solution will change with the mesh. continuum.regularisation = "
             "\"barker_gray\" is well posed at low I (docs/continuum-model.md)";
       say(os.str());
