@@ -78,10 +78,11 @@ part_delta() {
 }
 part_hdelta() {
   # V/R = 0.05 / 0.0075 = 6.667 1/s
-  for d in 0.6667 0.2 0.1; do
-    local top=3
-    [[ $d == 0.6667 || $d == 0.2 ]] && top=4
-    for r in $(seq 0 $top); do
+  local spec d top
+  for spec in 0.6667:4 0.2:4 0.1:3; do  # delta:finest level
+    d=${spec%:*}
+    top=${spec#*:}
+    for r in $(seq 0 "$top"); do
       run "hdelta/delta_${d}_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
         --set continuum.delta=$d --set continuum.refinement=$r
     done

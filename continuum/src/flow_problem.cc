@@ -75,6 +75,29 @@ double wrap_angle(double a) {
 const FEValuesExtractors::Vector kVelocity(0);
 const FEValuesExtractors::Scalar kPressure(dim);
 
+/// D(u), p and the viscosity model's outputs at the quadrature points of one cell (the
+/// rheology as the assembly, the post-processing and the output see it).
+struct QuadratureRheology {
+  std::vector<SymmetricTensor<2, dim>> sym;  ///< D(u)
+  std::vector<double> pressure;
+  RheologyInputs in;
+  RheologyOutputs out;
+  explicit QuadratureRheology(unsigned int nq) : sym(nq), pressure(nq) {
+    in.resize(nq);
+    out.resize(nq);
+  }
+  /// At the points of @p fev (reinitialised on a cell) for the ghosted @p state.
+  void evaluate(const FEValues<dim>& fev, const VectorType& state, const ViscosityModel& model) {
+    fev[kVelocity].get_function_symmetric_gradients(state, sym);
+    fev[kPressure].get_function_values(state, pressure);
+    for (unsigned int q = 0; q < sym.size(); ++q) {
+      in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);  // |D|^2 = D:D/2
+      in.pressure[q] = pressure[q];
+    }
+    model.evaluate(in, out);
+  }
+};
+
 /// Trilinos objects need MPI even on one process. When the program has not initialised MPI
 /// (the tests, a serial run), do it here once and finalise at exit.
 int ensure_mpi() {
@@ -335,18 +358,17 @@ double FlowProblem::assemble_impl(const VectorType& state, MatrixType* matrix, b
   FullMatrix<double> cm(dpc, dpc);
   Vector<double> cr(dpc);
   std::vector<types::global_dof_index> idx(dpc);
-  std::vector<SymmetricTensor<2, dim>> sym(nq);
+  QuadratureRheology qr(nq);
+  const std::vector<SymmetricTensor<2, dim>>& sym = qr.sym;
+  const std::vector<double>& pval = qr.pressure;
+  const RheologyOutputs& out = qr.out;
   std::vector<Tensor<2, dim>> grad(nq);
   std::vector<Vec2> uval(nq), fu(nfq);
-  std::vector<double> pval(nq), fp(nfq);
+  std::vector<double> fp(nfq);
   std::vector<SymmetricTensor<2, dim>> phi_sym(dpc);
   std::vector<Tensor<2, dim>> phi_grad(dpc);
   std::vector<Vec2> phi_u(dpc);
   std::vector<double> phi_div(dpc), phi_p(dpc);
-  RheologyInputs in;
-  in.resize(nq);
-  RheologyOutputs out;
-  out.resize(nq);
   const double rho = setup_.inertia_density;
   const bool inertia = rho > 0;
 
@@ -356,17 +378,11 @@ double FlowProblem::assemble_impl(const VectorType& state, MatrixType* matrix, b
     cm = 0;
     cr = 0;
     if (schur_mass) cmass = 0;
-    fev[kVelocity].get_function_symmetric_gradients(state, sym);
-    fev[kPressure].get_function_values(state, pval);
+    qr.evaluate(fev, state, *setup_.viscosity);
     if (inertia) {
       fev[kVelocity].get_function_gradients(state, grad);
       fev[kVelocity].get_function_values(state, uval);
     }
-    for (unsigned int q = 0; q < nq; ++q) {
-      in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);  // |D|^2 = D:D/2
-      in.pressure[q] = pval[q];
-    }
-    setup_.viscosity->evaluate(in, out);
 
     for (unsigned int q = 0; q < nq; ++q) {
       const double JxW = fev.JxW(q);
@@ -742,30 +758,18 @@ std::array<double, 2> FlowProblem::ill_posed_share() const {
   const VectorType state = ghosted(solution_);
   const QGauss<dim> quad(3);
   FEValues<dim> fev(mapping_, fe_, quad, update_values | update_gradients | update_JxW_values);
-  const unsigned int nq = quad.size();
-  std::vector<SymmetricTensor<2, dim>> sym(nq);
-  std::vector<double> pval(nq);
-  RheologyInputs in;
-  in.resize(nq);
-  RheologyOutputs out;
-  out.resize(nq);
+  QuadratureRheology qr(quad.size());
   const double rate = setup_.viscosity->regularised_strain_rate();
   double area[3] = {0, 0, 0};  // all, sheared, sheared and ill posed
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
     fev.reinit(cell);
-    fev[kVelocity].get_function_symmetric_gradients(state, sym);
-    fev[kPressure].get_function_values(state, pval);
-    for (unsigned int q = 0; q < nq; ++q) {
-      in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);
-      in.pressure[q] = pval[q];
-    }
-    setup_.viscosity->evaluate(in, out);
-    for (unsigned int q = 0; q < nq; ++q) {
+    qr.evaluate(fev, state, *setup_.viscosity);
+    for (unsigned int q = 0; q < quad.size(); ++q) {
       area[0] += fev.JxW(q);
-      if (!(std::sqrt(in.strain_rate_sq[q]) > rate) || !(pval[q] > 0)) continue;
+      if (!(std::sqrt(qr.in.strain_rate_sq[q]) > rate) || !(qr.pressure[q] > 0)) continue;
       area[1] += fev.JxW(q);
-      if (setup_.viscosity->well_posedness(out.inertial_number[q]) > 0) area[2] += fev.JxW(q);
+      if (setup_.viscosity->well_posedness(qr.out.inertial_number[q]) > 0) area[2] += fev.JxW(q);
     }
   }
   const auto total = sum_over_ranks({area[0], area[1], area[2]}, comm_);
@@ -1145,26 +1149,15 @@ void FlowProblem::output_results(const std::string& directory, const std::string
   {
     const QGauss<dim> quad(3);
     FEValues<dim> fev(mapping_, fe_, quad, update_gradients | update_values);
-    std::vector<SymmetricTensor<2, dim>> sym(quad.size());
-    std::vector<double> p(quad.size());
-    RheologyInputs in;
-    in.resize(quad.size());
-    RheologyOutputs out;
-    out.resize(quad.size());
+    QuadratureRheology qr(quad.size());
     for (const auto& cell : dof_handler_.active_cell_iterators()) {
       if (!cell->is_locally_owned()) continue;
       fev.reinit(cell);
-      fev[kVelocity].get_function_symmetric_gradients(state, sym);
-      fev[kPressure].get_function_values(state, p);
-      for (unsigned int q = 0; q < quad.size(); ++q) {
-        in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);
-        in.pressure[q] = p[q];
-      }
-      setup_.viscosity->evaluate(in, out);
+      qr.evaluate(fev, state, *setup_.viscosity);
       double a = 0, b = 0;
       for (unsigned int q = 0; q < quad.size(); ++q) {
-        a += out.viscosity[q];
-        b += std::min(out.inertial_number[q], 1e30);
+        a += qr.out.viscosity[q];
+        b += std::min(qr.out.inertial_number[q], 1e30);
       }
       eta(cell->active_cell_index()) = static_cast<float>(a / quad.size());
       inertial(cell->active_cell_index()) = static_cast<float>(b / quad.size());

@@ -29,8 +29,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kMpirun = "mpirun --allow-run-as-root --oversubscribe -np 2 ";
-
 std::string mpirun(int ranks) {
   return "mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
 }
@@ -86,14 +84,16 @@ double relative_difference(const std::vector<double>& a, const std::vector<doubl
   return scale > 0 ? diff / scale : diff;
 }
 
-/// `grainlift run` of the case with @p extra settings into dir/@p sub: on one process without
-/// mpirun (@p ranks = 1), else under mpirun -np @p ranks. Returns the exit code.
+/// `grainlift @p verb` of the case with @p extra settings into dir/@p sub: on one process without
+/// mpirun (@p ranks = 1), else under mpirun -np @p ranks; @p prefix goes before it all (an
+/// environment setting, `timeout`). Returns the exit code.
 int run_case(const TempDir& dir, const std::string& extra, int ranks, const std::string& sub,
-             std::string& log) {
+             std::string& log, const std::string& verb = "run", const std::string& prefix = "") {
   std::ofstream(dir.path / "case.toml") << fem_case;
-  const std::string command = (ranks > 1 ? mpirun(ranks) : std::string()) + GRAINLIFT_BINARY +
-                              " run " + (dir.path / "case.toml").string() + " --solver fem" +
-                              extra + " --out " + (dir.path / sub).string();
+  const std::string command = prefix + (ranks > 1 ? mpirun(ranks) : std::string()) +
+                              GRAINLIFT_BINARY + " " + verb + " " +
+                              (dir.path / "case.toml").string() + " --solver fem" + extra +
+                              " --out " + (dir.path / sub).string();
   return run(command, &log);
 }
 
@@ -241,13 +241,9 @@ TEST(FemMpi, AdaptiveCycleOnTwoRanksGivesTheOneRankSolution) {
 TEST(FemMpi, UnsupportedOptionsOnTwoRanksAreRejectedCleanly) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   const TempDir dir("reject");
-  std::ofstream(dir.path / "case.toml") << fem_case;
   const fs::path out_dir = dir.path / "out";
   std::string out;
-  const int rc = run(kMpirun + std::string(GRAINLIFT_BINARY) + " sweep " +
-                         (dir.path / "case.toml").string() +
-                         " --solver fem --vary continuum.refinement=0,1 --out " + out_dir.string(),
-                     &out);
+  const int rc = run_case(dir, " --vary continuum.refinement=0,1", 2, "out", out, "sweep");
   std::printf("%s\n", out.c_str());
   EXPECT_EQ(rc, 2);  // bad input
   EXPECT_EQ(count_of(out, "bad input"), 1u);
@@ -284,14 +280,10 @@ TEST(FemMpi, FailureOnEveryRankIsReportedOnce) {
 TEST(FemMpi, FailureOnOneRankEndsEveryRank) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   const TempDir dir("one_rank");
-  std::ofstream(dir.path / "case.toml") << fem_case;
   const fs::path out_dir = dir.path / "out";
   std::string out;
-  const int rc = run("GRAINLIFT_TEST_FAIL_ON_RANK=1 timeout 60 " + std::string(kMpirun) +
-                         GRAINLIFT_BINARY + " run " + (dir.path / "case.toml").string() +
-                         " --solver fem --quiet --set continuum.refinement=0 --out " +
-                         out_dir.string(),
-                     &out);
+  const int rc = run_case(dir, " --quiet --set continuum.refinement=0", 2, "out", out, "run",
+                          "GRAINLIFT_TEST_FAIL_ON_RANK=1 timeout 60 ");
   std::printf("%s\n", out.c_str());
   EXPECT_NE(rc, 0);
   EXPECT_NE(rc, 124) << "timed out: the ranks hung";

@@ -105,16 +105,25 @@ TEST(Simulation, CollisionTimeFormulaMatchesAnElasticCollision) {
   EXPECT_NEAR(in_contact * o.dt, tc, 0.01 * tc);
 }
 
+namespace {
+/// A 60 d x 40 d bed at Phi 0.8 (~2300 grains, enough for two threads), seed 11, a short run
+/// (travel 0.4 d, steady from 0.1 d), its packing cached under a fresh directory named @p tag.
+gd::DemConfig short_seeded_case(const char* tag) {
+  auto c = small_case(60, 40, 0.8);
+  c.travel = 0.4;
+  c.steady_travel = 0.1;
+  c.seed = 11;
+  c.packing_cache_dir = temp_cache_dir(tag);
+  return c;
+}
+}  // namespace
+
 // Physics: the run is a deterministic function of the configuration and seed: the same seed
 // gives bit-identical forces, with 1 or 2 threads (per-pair forces are summed per particle in a
 // fixed order); another seed gives another bed. Tolerance: exact equality. The bed (60 d x 40 d,
 // ~2300 grains) is large enough for the step to really run on 2 threads.
 TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
-  auto c = small_case(60, 40, 0.8);
-  c.travel = 0.4;
-  c.steady_travel = 0.1;
-  c.seed = 11;
-  c.packing_cache_dir = temp_cache_dir("seed");
+  auto c = short_seeded_case("seed");
   const auto a = gd::run_simulation(c);
   const auto b = gd::run_simulation(c);
   expect_same_samples(a, b);
@@ -148,11 +157,7 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
 // bits of the scalar code: the same run with them forbidden, on 1 and 2 threads, gives the
 // same intruder samples. Tolerance: exact equality. (Without AVX-512 both runs are scalar.)
 TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
-  auto c = small_case(60, 40, 0.8);
-  c.travel = 0.4;
-  c.steady_travel = 0.1;
-  c.seed = 11;
-  c.packing_cache_dir = temp_cache_dir("simd");
+  auto c = short_seeded_case("simd");
   std::printf("vector kernels on this CPU: %s\n", gd::vector_kernels() ? "yes" : "no");
   for (int threads : {1, 2}) {
     c.threads = threads;
