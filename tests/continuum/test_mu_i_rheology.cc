@@ -47,6 +47,7 @@ TEST(MuIRheology, SimpleShearGivesMuOfIP) {
 // (relative change (eta/eta_max)^2/3 < 1e-6 for eta = 1e-3 eta_max).
 TEST(MuIRheology, ClampFloorAndCap) {
   RheologyParams prm;
+  prm.regularisation = Regularisation::chauchat_medale;
   MuIRheology m(prm);
   const Eval neg = eval(m, 1.0, -5.0);
   EXPECT_EQ(neg.eta, prm.eta_min);
@@ -105,6 +106,7 @@ TEST(MuIRheology, BarkerGrayBranchIsC1AndVanishesAtZero) {
 // with opposite signs 1% inside and outside).
 TEST(MuIRheology, JopLawIsWellPosedOnlyAtIntermediateI) {
   RheologyParams prm;
+  prm.regularisation = Regularisation::chauchat_medale;
   MuIRheology m(prm);
   EXPECT_GT(m.well_posedness(1e-4), 0);
   EXPECT_GT(m.well_posedness(10.0), 0);

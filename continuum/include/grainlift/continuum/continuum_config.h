@@ -28,7 +28,7 @@ struct RheologyParams {
   double mu_s = 0.38, mu_2 = 0.64, I0 = 0.279;  ///< Jop, Forterre & Pouliquen 2006 (glass beads)
   double grain_diameter = 1.5e-3;   ///< m
   double solid_density = 2500;      ///< kg/m^3 (rho_s); I = 2|D| d / sqrt(p / rho_s)
-  Regularisation regularisation = Regularisation::chauchat_medale;
+  Regularisation regularisation = Regularisation::barker_gray;
   double delta = 1e-3;              ///< 1/s, strain-rate regularisation
   double eta_max = 1e4;             ///< Pa s, viscosity cap
   // ---- added by the continuum engine (defaults keep the previous behaviour)

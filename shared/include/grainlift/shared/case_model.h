@@ -65,7 +65,7 @@ struct DemSection {
 struct ContinuumSection {
   double ambient_pressure = 0;  ///< Pa, P0 at the intruder centre on top of the lithostatic part
   double mu_s = 0.38, mu_2 = 0.64, I0 = 0.279;
-  std::string regularisation = "chauchat_medale";
+  std::string regularisation = "barker_gray";
   double delta = 1e-3;          ///< 1/s
   double eta_max = 1e4;         ///< Pa s
   double pressure_smoothing = 0;  ///< p_eps / P0 (0 = hard clamp max(p, 0))
