@@ -3,7 +3,7 @@
 
     plot_continuum_study.py RUN_DIR IMG_DIR
 
-Reads RUN_DIR/{split,mesh,delta,hdelta,wellposed,box,spin}/*/fem.h5 (the shared schema, docs/schema.md), writes
+Reads RUN_DIR/{split,mesh,delta,hdelta,wellposed,box,spin,spin_bg,depth_bg}/*/fem.h5 (the shared schema, docs/schema.md), writes
 PNG figures into IMG_DIR and prints the markdown tables of docs/results-continuum.md. Parts whose
 runs are missing are skipped with a note.
 """
@@ -306,7 +306,7 @@ def part_wellposed(run_dir, img_dir):
         print_table("Barker-Gray law, Coulomb wall (mu_w = 0.5), h = 8 D", "refinement", coulomb,
                     ("cells", "cd", "lb", "steps", "time"))
     jop = series(run_dir, "mesh", "full_r*", lambda n: int(n.split("_r")[1]))
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    fig, ax = plt.subplots(1, 4, figsize=(19, 4))
     for rows, style, lab in ((bg, "o-", "Barker-Gray (well posed)"),
                              (jop, "s--", "Jop + Chauchat-Medale (ill posed for I < 0.019)")):
         if not rows:
@@ -314,11 +314,23 @@ def part_wellposed(run_dir, img_dir):
         lev = [x for x, _ in rows]
         ax[0].plot(lev, [drag_coefficient(r) for _, r in rows], style, label=lab)
         ax[1].plot(lev, [lift_ratio(r) for _, r in rows], style, label=lab)
+        ax[2].loglog([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], style, label=lab)
     ax[0].set_title("drag / (P0 D)")
     ax[1].set_title("lift / buoyancy")
-    for a in ax:
+    for a in ax[:2]:
         a.set_xlabel("refinement level")
-        a.legend()
+        a.legend(fontsize=8)
+    ax[2].set_xlabel("unknowns")
+    ax[2].set_ylabel("wall time (s); level 5 on two ranks")
+    ax[2].set_title("cost of each level (loaded machine)")
+    ax[2].legend(fontsize=8)
+    if deltas:
+        ds = [d for d, _ in deltas]
+        ax[3].semilogx(ds, [drag_coefficient(r) for _, r in deltas], "o-", label="drag / (P0 D)")
+        ax[3].semilogx(ds, [lift_ratio(r) for _, r in deltas], "s-", label="lift / buoyancy")
+        ax[3].set_xlabel("regularisation delta (1/s)")
+        ax[3].set_title("Barker-Gray, refinement 3: delta")
+        ax[3].legend(fontsize=8)
     fig.suptitle("Guillard gradient case, h = 8 D, delta = 1e-3 1/s (Jop's law fails at level 3)")
     fig.tight_layout()
     fig.savefig(os.path.join(img_dir, "continuum_wellposed.png"), dpi=120)
@@ -368,6 +380,11 @@ def part_box(run_dir, img_dir, sub="box", title=""):
         return
     print_table(f"FE box size{title}, h = 16 D (half sizes f x [0.06, 0.04] m = f x [4, 2.67] D)",
                 "f", rows, ("cd", "lb", "cells", "time"))
+    # a 2D viscous fluid has no drag limit in an unbounded domain (Stokes' paradox): the drag
+    # falls as 1 / ln(L / R) with the box size L; constant products below are that behaviour
+    print("drag / (P0 D) x ln(L / R), L = box half width: " + ", ".join(
+        f"f = {f:g}: {drag_coefficient(r) * math.log(f * 0.06 / (0.5 * r['D'])):.2f}"
+        for f, r in rows))
 
 
 def part_spin(run_dir, img_dir):
@@ -388,6 +405,150 @@ def part_spin(run_dir, img_dir):
     # (scripts/reproduce_continuum_first.sh)
 
 
+def part_depth_bg(run_dir, img_dir):
+    """Lift over buoyancy and drag against h/D with the Barker-Gray law at refinements 3
+    (split_bg) and 4 (depth_bg; h = 8 D from wellposed), beside Jop's law at refinement 2."""
+    depth = lambda n: int(re.match(r"full_h(\d+)", n).group(1))
+    levels = {3: series(run_dir, "split_bg", "full_h*", depth),
+              4: series(run_dir, "depth_bg", "full_h*_r4", depth)}
+    r4_h8 = glob.glob(os.path.join(run_dir, "wellposed", "bg_r4", "fem.h5"))
+    if r4_h8:
+        levels[4] = sorted(levels[4] + [(8, load(r4_h8[0]))], key=lambda x: x[0])
+    if not levels[4]:
+        print("(depth_bg: no runs)")
+        return
+    print("\n### Barker-Gray law against depth: refinements 3 and 4\n")
+    print("| h/D | L/B, ref 3 | L/B, ref 4 | change | drag/(P0 D), ref 3 | drag/(P0 D), ref 4 | change | time ref 4 |")
+    print("|---|---|---|---|---|---|---|---|")
+    r3 = dict(levels[3])
+    for h, r in levels[4]:
+        a = r3.get(h)
+        if a is None:
+            continue
+        print(f"| {h} | {lift_ratio(a):.3f} | {lift_ratio(r):.3f} | "
+              f"{100 * (lift_ratio(r) / lift_ratio(a) - 1):+.1f}% | {drag_coefficient(a):.3f} | "
+              f"{drag_coefficient(r):.3f} | {100 * (drag_coefficient(r) / drag_coefficient(a) - 1):+.1f}% | "
+              f"{r['seconds']:.0f} s |")
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    for k, (lev, rows) in enumerate(sorted(levels.items())):
+        hs = [h for h, _ in rows]
+        ax[0].semilogx(hs, [lift_ratio(r) for _, r in rows], "os"[k] + "-", color=f"C{k}",
+                       label=f"Barker-Gray, refinement {lev}")
+        ax[1].semilogx(hs, [drag_coefficient(r) for _, r in rows], "os"[k] + "-", color=f"C{k}",
+                       label=f"Barker-Gray, refinement {lev}")
+    jop = series(run_dir, "split", "full_h*", depth)
+    if jop:
+        ax[0].semilogx([h for h, _ in jop], [lift_ratio(r) for _, r in jop], "x:", color="grey",
+                       label="Jop's law (ill posed), refinement 2")
+        ax[1].semilogx([h for h, _ in jop], [drag_coefficient(r) for _, r in jop], "x:",
+                       color="grey", label="Jop's law (ill posed), refinement 2")
+    r5 = glob.glob(os.path.join(run_dir, "wellposed", "bg_r5", "fem.h5"))
+    if r5:
+        ax[0].plot([8], [lift_ratio(load(r5[0]))], "k*", label="refinement 5 (h = 8 D)")
+        ax[1].plot([8], [drag_coefficient(load(r5[0]))], "k*", label="refinement 5 (h = 8 D)")
+    ax[0].axhspan(20 * 0.8, 20 * 1.2, color="grey", alpha=0.15, label="Guillard et al.: ~20 (experiments)")
+    ax[0].set_ylabel("lift / buoyancy")
+    ax[1].set_ylabel("drag / (P0 D)")
+    for a in ax:
+        a.set_xlabel("h / D")
+        a.minorticks_off()
+        a.set_xticks([4, 8, 16, 32])
+        a.set_xticklabels(["4", "8", "16", "32"])
+        a.legend(fontsize=7)
+    fig.suptitle("Guillard gradient case, no-slip wall, FE box [4, 2.7] D")
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_depth_bg.png"), dpi=120)
+    plt.close(fig)
+
+
+def spin_ratio(r):
+    """Omega = omega R / V"""
+    return r["omega"] * r["D"] / 2 / r["V"]
+
+
+def dem_ld_omega(csv_path):
+    """(Omega, L/D, its standard error) of a DEM sweep.csv (scripts/reproduce_kumar2019.sh)."""
+    import csv
+    out = []
+    with open(csv_path) as f:
+        for row in csv.DictReader(f):
+            if row["solver"] != "dem":
+                continue
+            drag, lift = float(row["drag"]), float(row["lift"])
+            se = abs(lift / drag) * math.hypot(float(row["lift_stderr"]) / max(abs(lift), 1e-300),
+                                               float(row["drag_stderr"]) / drag)
+            out.append((float(row["spin_ratio"]), lift / drag, se))
+    return sorted(out)
+
+
+def part_spin_bg(run_dir, img_dir, dem_csv="runs/kumar2019/omega_phi080/sweep.csv"):
+    """L/D against Omega with the Barker-Gray law at mesh levels 2..4 (study_continuum.sh
+    spin_bg, spin_mesh), Jop's law at level 2 (spin) and the DEM beside them."""
+    runs = {}
+    for p in glob.glob(os.path.join(run_dir, "spin_bg", "*_r*_omega*", "fem.h5")):
+        m = re.match(r"(no_slip|coulomb)_r(\d+)_omega", os.path.basename(os.path.dirname(p)))
+        runs.setdefault((m.group(1), int(m.group(2))), []).append(load(p))
+    if not runs:
+        print("(spin_bg: no runs)")
+        return
+    print("\n### Spinning cylinder, Barker-Gray law (Kumar geometry, P0 = 1000 Pa): L/D by mesh level\n")
+    omegas = sorted({round(spin_ratio(r), 6) for rows in runs.values() for r in rows})
+    for wall in ("no_slip", "coulomb"):
+        levels = sorted(lev for w, lev in runs if w == wall)
+        if not levels:
+            continue
+        print(f"{wall} wall: L/D (drag N/m, time)\n")
+        print("| Omega | " + " | ".join(f"refinement {lev}" for lev in levels) + " |")
+        print("|" + "---|" * (len(levels) + 1))
+        for om in omegas:
+            cells = []
+            for lev in levels:
+                hit = [r for r in runs[(wall, lev)] if abs(spin_ratio(r) - om) < 1e-9]
+                cells.append(f"{hit[0]['lift'] / hit[0]['drag']:+.4f} ({hit[0]['drag']:.1f}, "
+                             f"{hit[0]['seconds']:.0f} s)" if hit else "")
+            print(f"| {om:g} | " + " | ".join(cells) + " |")
+        for om in omegas:
+            seq = []
+            for lev in levels:
+                hit = [r for r in runs[(wall, lev)] if abs(spin_ratio(r) - om) < 1e-9]
+                if hit:
+                    seq.append(hit[0]["lift"] / hit[0]["drag"])
+            if len(seq) >= 3:
+                est = richardson(seq)
+                print(f"Omega {om:g}: " + (
+                    "no monotone convergence" if est is None else
+                    f"observed order {est[0]:.2f}: not converging (no extrapolation)" if est[0] < 0.5
+                    else f"observed order {est[0]:.2f}, extrapolated L/D {est[1]:+.4f}"))
+        print()
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    markers = {2: "o", 3: "s", 4: "D", 5: "^"}
+    for k, wall in enumerate(("no_slip", "coulomb")):
+        for lev in sorted(lev for w, lev in runs if w == wall):
+            rows = sorted(runs[(wall, lev)], key=spin_ratio)
+            ax.plot([spin_ratio(r) for r in rows], [r["lift"] / r["drag"] for r in rows],
+                    markers.get(lev, "x") + ("-" if lev == 2 else ""), color=f"C{k}",
+                    label=f"mu(I) Barker-Gray, {wall.replace('_', '-')} wall, refinement {lev}")
+        jop = series(run_dir, "spin", f"{wall}_omega*", lambda n: float(n.split("omega")[1]))
+        if jop:
+            ax.plot([spin_ratio(r) for _, r in jop], [r["lift"] / r["drag"] for _, r in jop], ":",
+                    color=f"C{k}", label=f"Jop's mu(I), {wall.replace('_', '-')}, refinement 2")
+    if os.path.exists(dem_csv):
+        dem = dem_ld_omega(dem_csv)
+        ax.errorbar([d[0] for d in dem], [d[1] for d in dem], yerr=[d[2] for d in dem], fmt="k^",
+                    capsize=3, label="DEM, Phi 0.8 (docs/results-kumar2019.md)")
+    ax.axhline(-0.25, color="grey", lw=0.8, ls="--")
+    ax.text(0.02, -0.24, "Kumar eq. 15: |L/D| = 0.25 (Phi 0.82)", color="grey", fontsize=8)
+    ax.set_xscale("symlog", linthresh=0.5)
+    ax.set_xlim(-0.05, 25)
+    ax.set_xlabel("Omega = omega R / V")
+    ax.set_ylabel("L / D")
+    ax.set_title("Spinning cylinder (Kumar geometry, no gravity)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(img_dir, "continuum_ld_omega_bg.png"), dpi=120)
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -403,6 +564,8 @@ def main():
     part_box(run_dir, img_dir)
     part_box(run_dir, img_dir, "box_bg", ", Barker-Gray law")
     part_spin(run_dir, img_dir)
+    part_depth_bg(run_dir, img_dir)
+    part_spin_bg(run_dir, img_dir)
     return 0
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
-#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|plots|all] [OUT_DIR]
+#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]
 # Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
@@ -19,6 +19,7 @@
 #   depth_bg  Barker-Gray at refinement 4 at h = 4, 16, 32 D (mpirun -np 2)  ~20 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
 #   spin_bg  the same with the Barker-Gray law, and refinement 3 at Omega 2 and 10  ~20 min
+#   spin_mesh  refinement 4 of spin_bg at Omega 2 and 10 (mpirun -np 2)    ~30 min
 #   plots  figures into docs/img from OUT_DIR
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -157,6 +158,20 @@ part_spin_bg() {  # L/D against Omega with the Barker-Gray law; refinement 3 at 
     done
   done
 }
+part_spin_mesh() {  # the spin case's mesh limit: refinement 4 at Omega 2 and 10, two ranks (MUMPS)
+  for wall in no_slip coulomb; do
+    for om in 40 200; do
+      local dir="$O/spin_bg/${wall}_r4_omega$om"
+      [[ -f "$dir/fem.h5" ]] && continue
+      mpirun --allow-run-as-root --oversubscribe -np 2 \
+        "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
+        --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
+        --set 'continuum.regularisation="barker_gray"' --set continuum.refinement=4 \
+        --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om --out "$dir" ||
+        echo "FAILED: $dir" | tee -a "$O/failures.txt"
+    done
+  done
+}
 part_plots() {
   "$PY" scripts/plot_continuum_study.py "$O" docs/img
 }
@@ -174,7 +189,8 @@ case "$PART" in
   spin) part_spin ;;
   depth_bg) part_depth_bg ;;
   spin_bg) part_spin_bg ;;
+  spin_mesh) part_spin_mesh ;;
   plots) part_plots ;;
-  all) part_split; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_spin; part_spin_bg; part_plots ;;
-  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|plots|all] [OUT_DIR]" >&2; exit 2 ;;
+  all) part_split; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_spin; part_spin_bg; part_spin_mesh; part_plots ;;
+  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]" >&2; exit 2 ;;
 esac

@@ -462,9 +462,14 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
          << "% of the sheared medium (" << std::lround(100 * out.sheared_share)
          << "% of the area) mu(I) is ill posed at the local I (Barker et al. 2015; Jop's law "
             "with these parameters only for "
-         << w.low << " < I < " << w.high
-         << "): the solution will change with the mesh. continuum.regularisation = "
-            "\"barker_gray\" is well posed at low I (docs/continuum-model.md)";
+         << w.low << " < I < " << w.high << "): the solution will change with the mesh. ";
+      if (c.rheology.regularisation == Regularisation::barker_gray)
+        os << "Barker-Gray's branch removes the ill-posedness at low I only; here the flow is "
+              "too fast (I > " << w.high
+           << "): raise the confining pressure or lower the speeds (docs/continuum-model.md)";
+      else
+        os << "continuum.regularisation = \"barker_gray\" is well posed at low I "
+              "(docs/continuum-model.md)";
       say(os.str());
     }
     out.cells = static_cast<int>(tria.n_global_active_cells());
