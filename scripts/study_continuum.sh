@@ -36,6 +36,12 @@ RHO_G=$(awk 'BEGIN { print 0.82 * 2.5 * 9.81 }')   # rho g of the case (2D units
 ypos() { awk -v h="$1" -v D=$D 'BEGIN { printf "%.6g", 0.06 - h * D }'; }
 p0() { awk -v h="$1" -v D=$D -v rg="$RHO_G" 'BEGIN { printf "%.8g", rg * h * D }'; }
 
+# every part names its law, so that the studies do not depend on the default (Barker-Gray's
+# since session 5; the Jop series were run when Jop's law was the default)
+JOP='continuum.regularisation="chauchat_medale"'
+BGL='continuum.regularisation="barker_gray"'
+TWO_RANKS=(mpirun --allow-run-as-root --oversubscribe -np 2)
+
 LAUNCH=()  # a launcher for run(), e.g. (mpirun -np 2)
 run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rerun); log kept
   local dir="$O/$1"; shift
@@ -46,9 +52,9 @@ run() {  # run OUT_SUBDIR ARGS...: skip when the result exists (delete it to rer
   grep -E "^ fem:" "$dir.log" || true
 }
 
-part_split() {  # part_split [SUBDIR EXTRA_ARGS...]
-  local sub=${1:-split}
-  shift || true
+part_split() {  # part_split SUBDIR EXTRA_ARGS...
+  local sub=$1
+  shift
   for h in 4 8 16 32; do
     local pos="intruder.position=[0.0,$(ypos $h)]"
     run "$sub/full_h$h" --set "$BOX" --set "$pos" "$@"
@@ -59,23 +65,23 @@ part_split() {  # part_split [SUBDIR EXTRA_ARGS...]
   done
 }
 part_split_bg() {  # the split with the well-posed Barker-Gray law, refinement 3
-  part_split split_bg --set 'continuum.regularisation="barker_gray"' --set continuum.refinement=3
+  part_split split_bg --set "$BGL" --set continuum.refinement=3
 }
 part_mesh() {
   for r in 0 1 2 ${MESH_MAX:+$(seq -s ' ' 3 "$MESH_MAX")}; do
-    run "mesh/full_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+    run "mesh/full_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$JOP" \
       --set continuum.refinement=$r
-    run "mesh/linearised_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+    run "mesh/linearised_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$JOP" \
       --set continuum.refinement=$r --set 'continuum.gravity_treatment="linearised"'
   done
   for a in 1 2 3; do
-    run "mesh/adaptive_a$a" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+    run "mesh/adaptive_a$a" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$JOP" \
       --set continuum.refinement=1 --set continuum.adaptive_cycles=$a
   done
 }
 part_delta() {
   for d in 1e-1 1e-2 1e-3 1e-4; do
-    run "delta/delta_$d" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+    run "delta/delta_$d" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$JOP" \
       --set continuum.delta=$d
   done
 }
@@ -86,19 +92,18 @@ part_hdelta() {
     d=${spec%:*}
     top=${spec#*:}
     for r in $(seq 0 "$top"); do
-      run "hdelta/delta_${d}_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+      run "hdelta/delta_${d}_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$JOP" \
         --set continuum.delta=$d --set continuum.refinement=$r
     done
   done
 }
 part_wellposed() {
-  local bg=(--set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]"
-            --set 'continuum.regularisation="barker_gray"')
+  local bg=(--set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$BGL")
   for r in 0 1 2 3 4; do
     run "wellposed/bg_r$r" "${bg[@]}" --set continuum.refinement=$r
   done
   # refinement 5 (705,088 unknowns): MUMPS on two ranks, 10 min and 2.7 GB per rank
-  LAUNCH=(mpirun --allow-run-as-root --oversubscribe -np 2)
+  LAUNCH=("${TWO_RANKS[@]}")
   run "wellposed/bg_r5" "${bg[@]}" --set continuum.refinement=5
   LAUNCH=()
   for d in 1e-2 1e-4; do
@@ -109,68 +114,59 @@ part_wellposed() {
       --set 'continuum.wall="coulomb"'
   done
 }
+box_of() { awk -v f="$1" 'BEGIN { printf "[%.4g,%.4g]", 0.06 * f, 0.04 * f }'; }
 part_box() {
   for f in 1 1.5 2 3; do
-    local b
-    b=$(awk -v f=$f 'BEGIN { printf "[%.4g,%.4g]", 0.06 * f, 0.04 * f }')
-    run "box/box_x$f" --set "continuum.box_half_size=$b" --set "intruder.position=[0.0,$(ypos 16)]"
+    run "box/box_x$f" --set "continuum.box_half_size=$(box_of $f)" \
+      --set "intruder.position=[0.0,$(ypos 16)]" --set "$JOP"
   done
 }
 part_box_bg() {  # the box study with the Barker-Gray law, to f = 6 (the box top at the free surface)
   for f in 1 2 3 4 6; do
-    local b
-    b=$(awk -v f=$f 'BEGIN { printf "[%.4g,%.4g]", 0.06 * f, 0.04 * f }')
-    run "box_bg/box_x$f" --set "continuum.box_half_size=$b" --set "intruder.position=[0.0,$(ypos 16)]" \
-      --set 'continuum.regularisation="barker_gray"'
-  done
-}
-part_spin() {
-  for wall in no_slip coulomb; do
-    for om in 0 10 20 40 80 200; do
-      local dir="$O/spin/${wall}_omega$om"
-      [[ -f "$dir/fem.h5" ]] && continue
-      "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
-        --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
-        --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om --out "$dir" ||
-        echo "FAILED: $dir" | tee -a "$O/failures.txt"
-    done
+    run "box_bg/box_x$f" --set "continuum.box_half_size=$(box_of $f)" \
+      --set "intruder.position=[0.0,$(ypos 16)]" --set "$BGL"
   done
 }
 part_depth_bg() {  # the mesh limit at the other depths: Barker-Gray, refinement 4 on two ranks
-  LAUNCH=(mpirun --allow-run-as-root --oversubscribe -np 2)
+  LAUNCH=("${TWO_RANKS[@]}")
   for h in 4 16 32; do
     run "depth_bg/full_h${h}_r4" --set "$BOX" --set "intruder.position=[0.0,$(ypos $h)]" \
-      --set 'continuum.regularisation="barker_gray"' --set continuum.refinement=4
+      --set "$BGL" --set continuum.refinement=4
   done
   LAUNCH=()
+}
+spin_run() {  # spin_run OUT_SUBDIR WALL OMEGA ARGS...: the Kumar geometry, P0 = 1000 Pa, no gravity
+  local dir="$O/$1" wall=$2 om=$3
+  shift 3
+  [[ -f "$dir/fem.h5" ]] && return 0
+  "${LAUNCH[@]}" "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
+    --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
+    --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om "$@" --out "$dir" ||
+    echo "FAILED: $dir" | tee -a "$O/failures.txt"
+}
+part_spin() {  # Jop's law at refinement 2
+  for wall in no_slip coulomb; do
+    for om in 0 10 20 40 80 200; do
+      spin_run "spin/${wall}_omega$om" $wall $om --set "$JOP"
+    done
+  done
 }
 part_spin_bg() {  # L/D against Omega with the Barker-Gray law; refinement 3 at Omega 2 and 10
   for wall in no_slip coulomb; do
     for r_om in 2:0 2:10 2:20 2:40 2:80 2:200 3:40 3:200; do
       local r=${r_om%%:*} om=${r_om##*:}
-      local dir="$O/spin_bg/${wall}_r${r}_omega$om"
-      [[ -f "$dir/fem.h5" ]] && continue
-      "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
-        --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
-        --set 'continuum.regularisation="barker_gray"' --set continuum.refinement=$r \
-        --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om --out "$dir" ||
-        echo "FAILED: $dir" | tee -a "$O/failures.txt"
+      spin_run "spin_bg/${wall}_r${r}_omega$om" $wall $om --set "$BGL" --set continuum.refinement=$r
     done
   done
 }
 part_spin_mesh() {  # the spin case's mesh limit: refinement 4 at Omega 2 and 10, two ranks (MUMPS)
+  LAUNCH=("${TWO_RANKS[@]}")
   for wall in no_slip coulomb; do
     for om in 40 200; do
-      local dir="$O/spin_bg/${wall}_r4_omega$om"
-      [[ -f "$dir/fem.h5" ]] && continue
-      mpirun --allow-run-as-root --oversubscribe -np 2 \
-        "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
-        --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
-        --set 'continuum.regularisation="barker_gray"' --set continuum.refinement=4 \
-        --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om --out "$dir" ||
-        echo "FAILED: $dir" | tee -a "$O/failures.txt"
+      spin_run "spin_bg/${wall}_r4_omega$om" $wall $om --set "$BGL" --set continuum.refinement=4
     done
   done
+  LAUNCH=()
 }
 part_plots() {
   "$PY" scripts/plot_continuum_study.py "$O" docs/img
@@ -178,7 +174,7 @@ part_plots() {
 
 mkdir -p "$O"
 case "$PART" in
-  split) part_split ;;
+  split) part_split split --set "$JOP" ;;
   split_bg) part_split_bg ;;
   mesh) part_mesh ;;
   delta) part_delta ;;
@@ -191,6 +187,6 @@ case "$PART" in
   spin_bg) part_spin_bg ;;
   spin_mesh) part_spin_mesh ;;
   plots) part_plots ;;
-  all) part_split; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_spin; part_spin_bg; part_spin_mesh; part_plots ;;
+  all) part_split split --set "$JOP"; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_spin; part_spin_bg; part_spin_mesh; part_plots ;;
   *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]" >&2; exit 2 ;;
 esac
