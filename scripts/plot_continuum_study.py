@@ -7,6 +7,7 @@ Reads RUN_DIR/{split,mesh,delta,hdelta,wellposed,box,spin,spin_bg,depth_bg}/*/fe
 PNG figures into IMG_DIR and prints the markdown tables of docs/results-continuum.md. Parts whose
 runs are missing are skipped with a note.
 """
+import csv
 import glob
 import math
 import os
@@ -401,14 +402,15 @@ def part_spin(run_dir, img_dir):
         print(f"{wall}: " + ", ".join(
             f"Omega {r['omega'] * r['D'] / 2 / r['V']:g}: L/D {r['lift'] / r['drag']:+.3f} "
             f"(drag {r['drag']:.0f} N/m, {r['seconds']:.0f} s)" for _, r in rows))
-    # the figure with the DEM beside it is docs/img/continuum_ld_omega.png
-    # (scripts/reproduce_continuum_first.sh)
+    # Jop's law is drawn beside Barker-Gray's and the DEM in part_spin_bg's figure
 
 
 def part_depth_bg(run_dir, img_dir):
     """Lift over buoyancy and drag against h/D with the Barker-Gray law at refinements 3
     (split_bg) and 4 (depth_bg; h = 8 D from wellposed), beside Jop's law at refinement 2."""
-    depth = lambda n: int(re.match(r"full_h(\d+)", n).group(1))
+    def depth(name):
+        return int(re.match(r"full_h(\d+)", name).group(1))
+
     levels = {3: series(run_dir, "split_bg", "full_h*", depth),
               4: series(run_dir, "depth_bg", "full_h*_r4", depth)}
     r4_h8 = glob.glob(os.path.join(run_dir, "wellposed", "bg_r4", "fem.h5"))
@@ -468,7 +470,6 @@ def spin_ratio(r):
 
 def dem_ld_omega(csv_path):
     """(Omega, L/D, its standard error) of a DEM sweep.csv (scripts/reproduce_kumar2019.sh)."""
-    import csv
     out = []
     with open(csv_path) as f:
         for row in csv.DictReader(f):
