@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
-#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]
+#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]
 # Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
@@ -17,6 +17,7 @@
 #   box    FE box size at h = 16 D                                       ~5 min
 #   box_bg the same with the Barker-Gray law, f = 1..6                   ~10 min
 #   depth_bg  Barker-Gray at refinement 4 at h = 4, 16, 32 D (mpirun -np 2)  ~20 min
+#   dem_box  the shipped gradient case on the DEM's domain, refinements 2-4 (mpirun -np 2) ~7 min
 #   spin   L/D against Omega, no-slip and Coulomb walls (Kumar geometry) ~5 min
 #   spin_bg  the same with the Barker-Gray law, and refinement 3 at Omega 2 and 10  ~20 min
 #   spin_mesh  refinement 4 of spin_bg at Omega 2 and 10 (mpirun -np 2)    ~30 min
@@ -135,6 +136,18 @@ part_depth_bg() {  # the mesh limit at the other depths: Barker-Gray, refinement
   done
   LAUNCH=()
 }
+part_dem_box() {  # the shipped case on the DEM's own domain (h = 4 D, box to the free surface)
+  mkdir -p "$O/dem_box"
+  LAUNCH=("${TWO_RANKS[@]}")
+  for r in 2 3 4; do
+    [[ -f "$O/dem_box/r$r/fem.h5" ]] && continue
+    "${LAUNCH[@]}" "$G" run "$CASE" --solver fem --threads 1 --set output.fields=false \
+      --set output.vtu=false --set "$BGL" --set continuum.refinement=$r \
+      --out "$O/dem_box/r$r" > "$O/dem_box/r$r.log" 2>&1 ||
+      echo "FAILED: $O/dem_box/r$r" | tee -a "$O/failures.txt"
+  done
+  LAUNCH=()
+}
 spin_run() {  # spin_run OUT_SUBDIR WALL OMEGA ARGS...: the Kumar geometry, P0 = 1000 Pa, no gravity
   local dir="$O/$1" wall=$2 om=$3
   shift 3
@@ -184,9 +197,10 @@ case "$PART" in
   box_bg) part_box_bg ;;
   spin) part_spin ;;
   depth_bg) part_depth_bg ;;
+  dem_box) part_dem_box ;;
   spin_bg) part_spin_bg ;;
   spin_mesh) part_spin_mesh ;;
   plots) part_plots ;;
-  all) part_split split --set "$JOP"; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_spin; part_spin_bg; part_spin_mesh; part_plots ;;
-  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]" >&2; exit 2 ;;
+  all) part_split split --set "$JOP"; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_dem_box; part_spin; part_spin_bg; part_spin_mesh; part_plots ;;
+  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]" >&2; exit 2 ;;
 esac
