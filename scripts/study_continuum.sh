@@ -110,10 +110,12 @@ part_wellposed() {
   for d in 1e-2 1e-4; do
     run "wellposed/bg_delta_$d" "${bg[@]}" --set continuum.refinement=3 --set continuum.delta=$d
   done
-  for r in 2 3; do  # the Coulomb wall (mu_w = intruder.friction = 0.5)
+  for r in 2 3 4; do  # the Coulomb wall (mu_w = intruder.friction = 0.5); 4 on two ranks
+    [[ $r == 4 ]] && LAUNCH=("${TWO_RANKS[@]}")
     run "wellposed/bg_coulomb_r$r" "${bg[@]}" --set continuum.refinement=$r \
       --set 'continuum.wall="coulomb"'
   done
+  LAUNCH=()
 }
 box_of() { awk -v f="$1" 'BEGIN { printf "[%.4g,%.4g]", 0.06 * f, 0.04 * f }'; }
 part_box() {
