@@ -8,6 +8,8 @@ estimates the local effective friction mu_eff = |tau| / p from the stress, and i
 mu(I) (mu_s 0.38, mu_2 0.64, I_0 0.279, the continuum defaults) where mu_eff > mu_s. Prints the
 share of the grid points that are sheared (mu_eff >= 0.99 mu_s) and, of those, the share below
 I_LOW (default 0.0191, the lower end of mu(I)'s well-posed range, docs/continuum-model.md).
+The inversion is Jop's law: for a run with Barker-Gray's (the default since session 5) it holds
+only above I_N = 0.0287, so use it on runs with continuum.regularisation = "chauchat_medale".
 """
 import sys
 

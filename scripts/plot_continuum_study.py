@@ -273,16 +273,20 @@ def richardson(values):
     return math.log2(ratio), values[-1] + e2 / (ratio - 1)
 
 
+def convergence_verdict(values):
+    """richardson() of a sequence of mesh levels, in words."""
+    est = richardson(values)
+    if est is None:
+        return "no monotone convergence over the last three levels"
+    if est[0] < 0.5:
+        return f"observed order {est[0]:.2f}: not converging yet (no extrapolation)"
+    return f"observed order {est[0]:.2f}, extrapolated {est[1]:.4g}"
+
+
 def print_convergence(rows):
     """Observed order and extrapolation of drag and lift over the last three mesh levels."""
     for name, f in (("drag / (P0 D)", drag_coefficient), ("L/B", lift_ratio)):
-        est = richardson([f(r) for _, r in rows])
-        if est is None:
-            print(f"{name}: no monotone convergence over the last three levels")
-        elif est[0] < 0.5:
-            print(f"{name}: observed order {est[0]:.2f}: not converging yet (no extrapolation)")
-        else:
-            print(f"{name}: observed order {est[0]:.2f}, extrapolated {est[1]:.4g}")
+        print(f"{name}: {convergence_verdict([f(r) for _, r in rows])}")
 
 
 def part_wellposed(run_dir, img_dir):
@@ -485,15 +489,16 @@ def dem_ld_omega(csv_path):
 def part_spin_bg(run_dir, img_dir, dem_csv="runs/kumar2019/omega_phi080/sweep.csv"):
     """L/D against Omega with the Barker-Gray law at mesh levels 2..4 (study_continuum.sh
     spin_bg, spin_mesh), Jop's law at level 2 (spin) and the DEM beside them."""
-    runs = {}
+    runs = {}  # (wall, level) -> {Omega: run}
     for p in glob.glob(os.path.join(run_dir, "spin_bg", "*_r*_omega*", "fem.h5")):
         m = re.match(r"(no_slip|coulomb)_r(\d+)_omega", os.path.basename(os.path.dirname(p)))
-        runs.setdefault((m.group(1), int(m.group(2))), []).append(load(p))
+        r = load(p)
+        runs.setdefault((m.group(1), int(m.group(2))), {})[round(spin_ratio(r), 6)] = r
     if not runs:
         print("(spin_bg: no runs)")
         return
     print("\n### Spinning cylinder, Barker-Gray law (Kumar geometry, P0 = 1000 Pa): L/D by mesh level\n")
-    omegas = sorted({round(spin_ratio(r), 6) for rows in runs.values() for r in rows})
+    omegas = sorted({om for by_omega in runs.values() for om in by_omega})
     for wall in ("no_slip", "coulomb"):
         levels = sorted(lev for w, lev in runs if w == wall)
         if not levels:
@@ -501,31 +506,21 @@ def part_spin_bg(run_dir, img_dir, dem_csv="runs/kumar2019/omega_phi080/sweep.cs
         print(f"{wall} wall: L/D (drag N/m, time)\n")
         print("| Omega | " + " | ".join(f"refinement {lev}" for lev in levels) + " |")
         print("|" + "---|" * (len(levels) + 1))
+        verdicts = []
         for om in omegas:
-            cells = []
-            for lev in levels:
-                hit = [r for r in runs[(wall, lev)] if abs(spin_ratio(r) - om) < 1e-9]
-                cells.append(f"{hit[0]['lift'] / hit[0]['drag']:+.4f} ({hit[0]['drag']:.1f}, "
-                             f"{hit[0]['seconds']:.0f} s)" if hit else "")
-            print(f"| {om:g} | " + " | ".join(cells) + " |")
-        for om in omegas:
-            seq = []
-            for lev in levels:
-                hit = [r for r in runs[(wall, lev)] if abs(spin_ratio(r) - om) < 1e-9]
-                if hit:
-                    seq.append(hit[0]["lift"] / hit[0]["drag"])
+            hits = [runs[(wall, lev)].get(om) for lev in levels]
+            print(f"| {om:g} | " + " | ".join(
+                f"{r['lift'] / r['drag']:+.4f} ({r['drag']:.1f}, {r['seconds']:.0f} s)" if r else ""
+                for r in hits) + " |")
+            seq = [r["lift"] / r["drag"] for r in hits if r]
             if len(seq) >= 3:
-                est = richardson(seq)
-                print(f"Omega {om:g}: " + (
-                    "no monotone convergence" if est is None else
-                    f"observed order {est[0]:.2f}: not converging (no extrapolation)" if est[0] < 0.5
-                    else f"observed order {est[0]:.2f}, extrapolated L/D {est[1]:+.4f}"))
-        print()
+                verdicts.append(f"Omega {om:g}, L/D: {convergence_verdict(seq)}")
+        print("\n".join(verdicts) + "\n")
     fig, ax = plt.subplots(figsize=(7, 4.5))
     markers = {2: "o", 3: "s", 4: "D", 5: "^"}
     for k, wall in enumerate(("no_slip", "coulomb")):
         for lev in sorted(lev for w, lev in runs if w == wall):
-            rows = sorted(runs[(wall, lev)], key=spin_ratio)
+            rows = [runs[(wall, lev)][om] for om in sorted(runs[(wall, lev)])]
             ax.plot([spin_ratio(r) for r in rows], [r["lift"] / r["drag"] for r in rows],
                     markers.get(lev, "x") + ("-" if lev == 2 else ""), color=f"C{k}",
                     label=f"mu(I) Barker-Gray, {wall.replace('_', '-')} wall, refinement {lev}")

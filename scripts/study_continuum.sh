@@ -29,8 +29,8 @@ O=${2:-runs/continuum_study}
 G=${GRAINLIFT:-build/bin/grainlift}
 PY=${PYTHON:-/usr/bin/python3}
 CASE=cases/guillard2014/gradient.toml
-S=(--solver fem --threads 1 --set output.fields=false --set output.vtu=false
-   --set "domain.y_range=[-0.6,0.06]")
+SHIPPED=(--solver fem --threads 1 --set output.fields=false --set output.vtu=false)
+S=("${SHIPPED[@]}" --set "domain.y_range=[-0.6,0.06]")  # the tall bed of the depth studies
 BOX="continuum.box_half_size=[0.06,0.04]"
 D=0.015
 RHO_G=$(awk 'BEGIN { print 0.82 * 2.5 * 9.81 }')   # rho g of the case (2D units)
@@ -139,16 +139,14 @@ part_depth_bg() {  # the mesh limit at the other depths: Barker-Gray, refinement
   LAUNCH=()
 }
 part_dem_box() {  # the shipped case on the DEM's own domain (h = 4 D, box to the free surface)
-  mkdir -p "$O/dem_box"
+  local tall=("${S[@]}")
+  S=("${SHIPPED[@]}")
   LAUNCH=("${TWO_RANKS[@]}")
   for r in 2 3 4; do
-    [[ -f "$O/dem_box/r$r/fem.h5" ]] && continue
-    "${LAUNCH[@]}" "$G" run "$CASE" --solver fem --threads 1 --set output.fields=false \
-      --set output.vtu=false --set "$BGL" --set continuum.refinement=$r \
-      --out "$O/dem_box/r$r" > "$O/dem_box/r$r.log" 2>&1 ||
-      echo "FAILED: $O/dem_box/r$r" | tee -a "$O/failures.txt"
+    run "dem_box/r$r" --set "$BGL" --set continuum.refinement=$r
   done
   LAUNCH=()
+  S=("${tall[@]}")
 }
 spin_run() {  # spin_run OUT_SUBDIR WALL OMEGA ARGS...: the Kumar geometry, P0 = 1000 Pa, no gravity
   local dir="$O/$1" wall=$2 om=$3
