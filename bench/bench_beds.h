@@ -9,6 +9,7 @@
 #include "grainlift/dem/dem_config.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/packing.h"
+#include "grainlift/dem/system_setup.h"
 #include "dem_beds.h"
 
 namespace grainlift::bench {
@@ -33,21 +34,10 @@ inline dem::DemConfig bed_config(double phi) {
 /// fields off (no per-pair force store), on @p threads threads; not yet advanced.
 inline std::unique_ptr<dem::DemSystem> bench_system(const dem::DemConfig& c, const dem::PackedBed& b,
                                                     int threads) {
-  constexpr double kPi = 3.14159265358979323846;
-  dem::SystemOptions o;
-  o.box = {c.xmin, c.xmax, c.ymin, c.ymax, c.periodic_x, c.periodic_y};
-  o.contact = c.contact;
-  o.dt = c.dt;
+  dem::SystemOptions o = dem::system_options(c);
   o.threads = threads;
   auto s = std::make_unique<dem::DemSystem>(o);
-  std::vector<dem::Disk> grains(b.r.size());
-  for (std::size_t n = 0; n < b.r.size(); ++n) {
-    grains[n].x = b.x[n];
-    grains[n].y = b.y[n];
-    grains[n].r = b.r[n];
-    grains[n].mass = c.density * kPi * b.r[n] * b.r[n];
-  }
-  s->set_bodies(grains, dem::make_wall_disks(c));
+  s->set_bodies(dem::grain_disks(c, b.x, b.y, b.r), dem::make_wall_disks(c));
   s->set_store_pair_forces(false);
   s->set_intruder(0, 0, 0.5 * c.intruder_diameter, c.intruder_velocity[0], 0, c.intruder_omega, 0);
   return s;

@@ -23,12 +23,13 @@ import numpy as np  # noqa: E402
 
 
 def load(path):
-    """Scalars and the surface distributions of one fem.h5."""
+    """Scalars and the surface distributions of one fem.h5 (schema 2: /diagnostics, /derived)."""
     with h5py.File(path, "r") as f:
         g = dict(f["geometry"].attrs)
         m = dict(f["means"].attrs)
         meta = dict(f["metadata"].attrs)
-        notes = meta["notes"].decode() if isinstance(meta["notes"], bytes) else str(meta["notes"])
+        diag = f["diagnostics"].attrs if "diagnostics" in f else {}
+        derived = f["derived"] if "derived" in f else None
         r = {
             "drag": float(m["drag"]),
             "lift": float(m["lift"]),
@@ -43,32 +44,28 @@ def load(path):
             "P0": float(g["pressure_scale"]),
             "V": math.hypot(float(g["velocity_x"]), float(g["velocity_y"])),
             "omega": float(g["omega"]),
-            "notes": notes,
         }
-    def note(key, conv=float):
-        mm = re.search(key + r" ([0-9.eE+-]+)", notes)
-        return conv(mm.group(1)) if mm else None
-    r["cells"] = note("cells", int)
-    r["dofs"] = note("dofs", int)
-    r["iterations"] = note("nonlinear iterations", int)
-    r["correction_s"] = note("linearised gravity correction")
-    r["splits"] = note("continuation splits", int)
+        if derived is not None:
+            r["spin_ratio"] = float(derived.attrs["spin_ratio"])
+            if "buoyancy" in derived.attrs:
+                r["buoyancy"] = float(derived.attrs["buoyancy"])
+            if "sigma_n_symmetric" in derived:
+                r["sigma_n_split"] = (derived["sigma_n_symmetric"][:], derived["sigma_n_antisymmetric"][:])
+
+        def get(key, conv=float):
+            return conv(diag[key]) if key in diag else None
+
+        r["cells"] = get("cells", int)
+        r["dofs"] = get("dofs", int)
+        r["iterations"] = get("nonlinear_iterations", int)
+        r["correction_s"] = get("correction_seconds")
+        r["splits"] = get("continuation_splits", int)
     return r
 
 
-def mirror_index(theta):
-    """Index of -theta on the grid (theta measured from V)."""
-    t = np.mod(theta, 2 * np.pi)
-    return np.array([int(np.argmin(np.abs(np.mod(-x, 2 * np.pi) - t))) for x in t])
-
-
-def split(values, theta):
-    j = mirror_index(theta)
-    return 0.5 * (values + values[j]), 0.5 * (values - values[j])
-
-
 def buoyancy(r):
-    return r["rho"] * r["g"] * math.pi * r["D"] ** 2 / 4
+    """2D buoyancy rho g pi D^2 / 4, as grainlift wrote it (/derived)."""
+    return r["buoyancy"]
 
 
 def drag_coefficient(r):
@@ -171,8 +168,8 @@ def part_split(run_dir, img_dir, sub="split", title=""):
         order = np.argsort(np.mod(th + 180, 360))
         thp = (np.mod(th + 180, 360) - 180)[order]
         rgD = a["rho"] * a["g"] * a["D"]
-        sym_a, anti_a = split(a["sigma_n"], a["theta"])
-        sym_b, anti_b = split(b["sigma_n"], b["theta"])
+        sym_a, anti_a = a["sigma_n_split"]
+        sym_b, anti_b = b["sigma_n_split"]
         line, = ax[0].plot(thp, (sym_a / base["P0"])[order], label=f"(a) h = {h} D")
         ax[0].plot(thp, (base["sigma_n"] / base["P0"])[order], ":", color=line.get_color())
         line, = ax[1].plot(thp, (anti_a / rgD)[order], label=f"(a) h = {h} D")
@@ -404,7 +401,7 @@ def part_spin(run_dir, img_dir):
     print("\n### Spinning cylinder (Kumar geometry, P0 = 1000 Pa), L/D against Omega\n")
     for wall, rows in walls.items():
         print(f"{wall}: " + ", ".join(
-            f"Omega {r['omega'] * r['D'] / 2 / r['V']:g}: L/D {r['lift'] / r['drag']:+.3f} "
+            f"Omega {r['spin_ratio']:g}: L/D {r['lift'] / r['drag']:+.3f} "
             f"(drag {r['drag']:.0f} N/m, {r['seconds']:.0f} s)" for _, r in rows))
     # Jop's law is drawn beside Barker-Gray's and the DEM in part_spin_bg's figure
 
@@ -469,7 +466,7 @@ def part_depth_bg(run_dir, img_dir):
 
 def spin_ratio(r):
     """Omega = omega R / V"""
-    return r["omega"] * r["D"] / 2 / r["V"]
+    return r["spin_ratio"]
 
 
 def dem_ld_omega(csv_path):

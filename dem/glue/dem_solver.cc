@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <stdexcept>
 
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
@@ -26,6 +27,13 @@ std::string packing_cache_dir(const std::string& setting) {
   if (const char* home = std::getenv("HOME"); home && *home)
     return std::string(home) + "/.cache/grainlift/packings";
   return "";
+}
+
+/// The engine's law for the case's name (the loader accepts only these; anything else is a bug).
+ContactLaw contact_law_of(const std::string& name) {
+  if (name == "kumar2019") return ContactLaw::kumar2019;
+  if (name == "guillard2014") return ContactLaw::guillard2014;
+  throw std::logic_error("grains.contact.law = \"" + name + "\" passed the loader");
 }
 
 RunResult to_result(const Case& c, const DemOutput& out) {
@@ -151,6 +159,24 @@ RunResult to_result(const Case& c, const DemOutput& out) {
       stated == 0                   ? "= drag / D"
       : c.domain.lid_pressure > 0 ? "= lid pressure + lithostatic pressure at the centre"
                                     : "= lithostatic pressure at the centre");
+  Diagnostics& diag = r.diagnostics;
+  diag.counts = {{"grains", out.grains},
+                 {"wall_grains", out.wall_grains},
+                 {"steps", out.steps},
+                 {"list_builds", out.list_builds},
+                 {"threads_used", out.threads_used},
+                 {"packing_from_cache", out.packing_from_cache ? 1 : 0},
+                 {"samples", static_cast<long long>(out.samples.size())},
+                 {"steady_start_sample", static_cast<long long>(out.steady_start_index)}};
+  diag.values = {{"area_fraction", out.achieved_area_fraction},
+                 {"collision_time", out.collision_time}};
+  diag.texts = {{"pressure_scale_source", stated == 0                   ? "drag / D"
+                                          : c.domain.lid_pressure > 0 ? "lid + lithostatic"
+                                                                      : "lithostatic"}};
+  if (r.lid && !r.lid->y.empty()) {
+    diag.values["lid_height_start"] = r.lid->y.front();
+    diag.values["lid_height_end"] = r.lid->y.back();
+  }
   if (r.lid) {
     r.meta.notes += fmt::format(
         "; lid: target {:.6g} Pa, mean {:.6g} +- {:.2g} Pa after the steady start, lid height "
@@ -183,7 +209,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.density = c.grains.density;
   d.area_fraction = c.grains.area_fraction;
   auto& ct = d.contact;
-  ct.law = c.grains.contact.law == "guillard2014" ? ContactLaw::guillard2014 : ContactLaw::kumar2019;
+  ct.law = contact_law_of(c.grains.contact.law);
   ct.kn = c.grains.contact.kn;
   ct.kt = c.grains.contact.kt;
   ct.gamma_n = c.grains.contact.gamma_n;

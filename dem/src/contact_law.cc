@@ -53,8 +53,7 @@ double hertz_collision_time(const LawCoefficients& c, double r1, double r2, doub
                             double v) {
   const double r_eff = r1 * r2 / (r1 + r2);
   const double m_eff = m1 * m2 / (m1 + m2);
-  const double k = c.law == ContactLaw::kumar2019 ? c.kn * std::sqrt(r_eff)
-                                                  : c.hertz_kn_factor * std::sqrt(r_eff);
+  const double k = c.hertz_stiffness(r_eff);
   const double delta_max = std::pow(5.0 * m_eff * v * v / (4.0 * k), 0.4);
   // (2/5) B(2/5, 1/2) = (2/5) Gamma(2/5) Gamma(1/2) / Gamma(9/10)
   const double integral = 0.4 * std::tgamma(0.4) * std::tgamma(0.5) / std::tgamma(0.9);

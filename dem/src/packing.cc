@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "grainlift/dem/errors.h"
+#include "grainlift/dem/system_setup.h"
 
 namespace grainlift::dem {
 
@@ -48,17 +49,6 @@ Region grain_region(const DemConfig& c) {
   const double d = c.grain_diameter;
   return {c.xmin + (c.wall_left ? d : 0.0), c.xmax - (c.wall_right ? d : 0.0),
           c.ymin + (c.wall_bottom ? d : 0.0), c.ymax - (c.wall_top ? d : 0.0)};
-}
-
-PeriodicBox box_of(const DemConfig& c) {
-  PeriodicBox b;
-  b.xmin = c.xmin;
-  b.xmax = c.xmax;
-  b.ymin = c.ymin;
-  b.ymax = c.ymax;
-  b.periodic_x = c.periodic_x;
-  b.periodic_y = c.periodic_y;
-  return b;
 }
 
 /// Random sequential insertion of disks of radii r (in the given order) with no overlap
@@ -124,28 +114,6 @@ bool insert_randomly(const DemConfig& c, const std::vector<double>& r, std::mt19
     if (!placed) return false;
   }
   return true;
-}
-
-std::vector<Disk> grains_of(const DemConfig& c, const std::vector<double>& x,
-                            const std::vector<double>& y, const std::vector<double>& r) {
-  std::vector<Disk> g(r.size());
-  for (std::size_t n = 0; n < r.size(); ++n) {
-    g[n].x = x[n];
-    g[n].y = y[n];
-    g[n].r = r[n];
-    g[n].mass = c.density * kPi * r[n] * r[n];
-  }
-  return g;
-}
-
-DemSystem make_system(const DemConfig& c) {
-  SystemOptions o;
-  o.box = box_of(c);
-  o.contact = c.contact;
-  o.dt = c.dt;
-  o.threads = c.threads;
-  o.gravity = c.gravity;
-  return DemSystem(o);
 }
 
 /// Run with drag until the mean kinetic energy per grain is below ke_per_grain (J).
@@ -337,9 +305,9 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
     throw ConfigError(m.str());
   }
 
-  DemSystem s = make_system(c);
+  DemSystem s(system_options(c));
   const std::vector<Disk> walls = make_wall_disks(c);
-  s.set_bodies(grains_of(c, x, y, r_ins), walls);
+  s.set_bodies(grain_disks(c, x, y, r_ins), walls);
   s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter, 0,
                  0, 0, 0);
   // Drag rate ~ the lowest collective frequencies of the bed: stronger drag over-damps them
@@ -360,7 +328,7 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
     }
     std::vector<double> rr;
     read_back(s, x, y, rr);
-    s.set_bodies(grains_of(c, x, y, r), walls);  // exact final radii
+    s.set_bodies(grain_disks(c, x, y, r), walls);  // exact final radii
     s.set_friction(0, 0);
     relax(s, frictionless_relax_ke(c), damping);
     s.set_friction(c.contact.friction, c.contact.intruder_friction);
@@ -391,7 +359,7 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
         r2.push_back(r[n]);
       }
     }
-    s.set_bodies(grains_of(c, x2, y2, r2), walls);
+    s.set_bodies(grain_disks(c, x2, y2, r2), walls);
     relax(s, c.relax_ke_per_grain, damping);
     read_back(s, x, y, r);
   }

@@ -11,6 +11,7 @@
 #include "grainlift/dem/field_accumulator.h"
 #include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
+#include "grainlift/dem/system_setup.h"
 
 namespace grainlift::dem {
 
@@ -113,37 +114,18 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   out.packing_from_cache = bed.from_cache;
   out.achieved_area_fraction = bed.area_fraction;
 
-  SystemOptions o;
-  o.box.xmin = c.xmin;
-  o.box.xmax = c.xmax;
-  o.box.ymin = c.ymin;
-  o.box.ymax = c.ymax;
-  o.box.periodic_x = c.periodic_x;
-  o.box.periodic_y = c.periodic_y;
-  o.contact = c.contact;
-  o.dt = c.dt;
-  o.threads = c.threads;
-  o.gravity = c.gravity;
-  DemSystem s(o);
-  std::vector<Disk> grains(bed.r.size());
-  for (std::size_t n = 0; n < bed.r.size(); ++n) {
-    grains[n].x = bed.x[n];
-    grains[n].y = bed.y[n];
-    grains[n].r = bed.r[n];
-    grains[n].mass = c.density * kPi * bed.r[n] * bed.r[n];
-  }
-  const std::vector<Disk> walls = make_wall_disks(c);
-  s.set_bodies(grains, walls);
+  const std::unique_ptr<DemSystem> system = system_on_bed(c, bed);
+  DemSystem& s = *system;
   s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter,
                  c.intruder_velocity[0], c.intruder_velocity[1], c.intruder_omega,
                  c.spin_ramp_time);
   s.set_store_pair_forces(c.fields.enabled);  // only the contact stress (and the lid) read them
-  std::unique_ptr<PressureLid> lid;
   if (c.lid_pressure > 0) {
-    lid = std::make_unique<PressureLid>(c, s);
-    out.lid_mass = lid->mass();
-    out.lid_damping = lid->damping();
+    s.attach_lid(PressureLid(c, s));
+    out.lid_mass = s.lid()->mass();
+    out.lid_damping = s.lid()->damping();
   }
+  const PressureLid* lid = s.lid();
   s.prepare();
   const double ov0 = s.current_max_overlap_fraction();
   if (ov0 > c.max_overlap_fraction) {
@@ -165,22 +147,14 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   FieldAccumulator fields(c.fields);
 
   // advance() runs the steps between two events (sample, field snapshot, progress report)
-  // in one go; the state is the same as after single steps. The lid, a body of its own,
-  // moves after every step, so with a lid the steps are taken one at a time.
+  // in one go; the state is the same as after single steps (the lid moves inside every step).
   auto next_multiple = [](long long k, long long every) { return (k / every + 1) * every; };
   for (long long k = 0; k < n_steps;) {
     long long next = std::min(n_steps, next_multiple(k, c.sample_every));
     if (c.fields.enabled) next = std::min(next, next_multiple(k, c.field_every));
     if (progress) next = std::min(next, next_multiple(k, progress_every));
-    if (lid) {
-      for (; k < next; ++k) {
-        s.advance(1);
-        lid->advance(s);
-      }
-    } else {
-      s.advance(next - k);
-      k = next;
-    }
+    s.advance(next - k);
+    k = next;
     const double t = s.time();
     if (k % c.sample_every == 0) {
       if (lid) out.lid.push_back({t, lid->state().y, lid->state().pressure});
@@ -236,6 +210,8 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   if (out.steady_start_index == static_cast<std::size_t>(-1)) out.steady_start_index = out.samples.size();
   if (c.fields.enabled) out.fields = fields.finish();
   out.steps = n_steps;
+  out.list_builds = s.list_builds();
+  out.threads_used = s.threads_used();
   return out;
 }
 

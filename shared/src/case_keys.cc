@@ -147,8 +147,9 @@ std::vector<KeySpec> make_keys() {
   k.push_back(vec2("continuum.box_half_size", false, "from the domain", 0, 1e4, "m",
                    "half width and half height of the FE box around the intruder"));
   k.push_back(integer("continuum.refinement", "2", 0, 7,
-                      "global refinement level of the mesh (3 and above: lift not yet reliable, "
-                      "see docs/continuum-model.md)"));
+                      "global refinement level of the mesh (each level quarters the cells; "
+                      "with the default barker_gray law the forces converge, see "
+                      "docs/results-continuum.md)"));
   k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
                       "adaptive refinement cycles after the first solve: each refines the 30% "
                       "of the cells with the largest Kelly indicator of the velocity (level "

@@ -193,6 +193,24 @@ void check_table(const toml::table& table, const std::string& prefix, Diagnostic
 }
 
 /// Splits "a.b.c=value" and merges the value into @p root, creating tables as needed.
+/// Insert @p value at the dotted path @p parts of @p root, creating sections. Returns "" or the
+/// part that is not a section.
+template <class Node>
+std::string insert_at(toml::table& root, const std::vector<std::string>& parts, Node&& value) {
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = t->get(parts[i]);
+    if (!n) {
+      t->insert(parts[i], toml::table{});
+      n = t->get(parts[i]);
+    }
+    if (!n->is_table()) return parts[i];
+    t = n->as_table();
+  }
+  t->insert_or_assign(parts.back(), std::forward<Node>(value));
+  return "";
+}
+
 void apply_override(toml::table& root, const std::string& arg, Diagnostics& diag) {
   const auto eq = arg.find('=');
   if (eq == std::string::npos || eq == 0) {
@@ -222,44 +240,71 @@ void apply_override(toml::table& root, const std::string& arg, Diagnostics& diag
     diag.error(fmt::format("--set '{}'", arg), "expected section.key=value");
     return;
   }
-  toml::table* t = &root;
-  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-    toml::node* n = t->get(parts[i]);
-    if (!n) {
-      t->insert(parts[i], toml::table{});
-      n = t->get(parts[i]);
-    }
-    if (!n->is_table()) {
-      diag.error(fmt::format("--set '{}'", arg), fmt::format("'{}' is not a section", parts[i]));
-      return;
-    }
-    t = n->as_table();
+  if (const std::string bad = insert_at(root, parts, std::move(*parsed.get("v"))); !bad.empty()) {
+    diag.error(fmt::format("--set '{}'", arg), fmt::format("'{}' is not a section", bad));
+    return;
   }
-  t->insert_or_assign(parts.back(), std::move(*parsed.get("v")));
   diag.set_override_origin(path, arg);
 }
 
-// ---- typed getters (values are already validated) ------------------------------------------
-double get_real(const toml::table& r, const std::string& path, double def) {
+/// The case's table with every absent key filled from the key registry, the only place a
+/// default is written: a literal default as parsed TOML, a default that names another key
+/// (intruder.friction: "grains.friction") as that key's value. Required keys and
+/// continuum.box_half_size ("from the domain", read as [0, 0]) stay absent.
+toml::table with_defaults(const toml::table& root) {
+  toml::table full = root;
+  const auto split = [](const std::string& path) {
+    std::vector<std::string> parts;
+    std::stringstream ss(path);
+    for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+    return parts;
+  };
+  // literal defaults first, then those naming a key (in registry order: intruder.friction
+  // before continuum.wall_friction, which names it)
+  for (const bool naming : {false, true}) {
+    for (const KeySpec& k : case_keys()) {
+      if (k.required || k.default_text.empty() || full.at_path(k.path)) continue;
+      if (const KeySpec* other = find_key(k.default_text)) {
+        if (naming) {
+          if (const toml::node* v = full.at_path(other->path).node())
+            insert_at(full, split(k.path), toml::node_view<const toml::node>(v));
+        }
+        continue;
+      }
+      if (naming) continue;
+      toml::table parsed;
+      try {
+        parsed = toml::parse("v = " + k.default_text);
+      } catch (const toml::parse_error&) {
+        continue;  // a sentence, not a value ("from the domain")
+      }
+      insert_at(full, split(k.path), std::move(*parsed.get("v")));
+    }
+  }
+  return full;
+}
+
+// ---- typed getters (values are already validated; defaults filled by with_defaults)
+double get_real(const toml::table& r, const std::string& path) {
   auto n = r.at_path(path);
   if (auto f = n.as_floating_point()) return f->get();
   if (auto i = n.as_integer()) return double(i->get());
-  return def;
+  return 0;
 }
-long long get_int(const toml::table& r, const std::string& path, long long def) {
+long long get_int(const toml::table& r, const std::string& path) {
   if (auto i = r.at_path(path).as_integer()) return i->get();
-  return def;
+  return 0;
 }
-bool get_bool(const toml::table& r, const std::string& path, bool def) {
-  return r.at_path(path).value_or(def);
+bool get_bool(const toml::table& r, const std::string& path) {
+  return r.at_path(path).value_or(false);
 }
-std::string get_text(const toml::table& r, const std::string& path, const std::string& def) {
-  return r.at_path(path).value_or(def);
+std::string get_text(const toml::table& r, const std::string& path) {
+  return r.at_path(path).value_or(std::string());
 }
-Vec2 get_vec2(const toml::table& r, const std::string& path, Vec2 def) {
+Vec2 get_vec2(const toml::table& r, const std::string& path) {
   if (auto a = r.at_path(path).as_array())
     return {(*a)[0].value_or(0.0), (*a)[1].value_or(0.0)};
-  return def;
+  return {0, 0};
 }
 
 void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
@@ -313,13 +358,14 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   }
 }
 
-Case build_case(const toml::table& r) {
+Case build_case(const toml::table& root) {
+  const toml::table r = with_defaults(root);
   Case c;
-  c.scene.gravity = get_vec2(r, "scene.gravity", {0, 0});
-  c.domain.x_range = get_vec2(r, "domain.x_range", {0, 0});
-  c.domain.y_range = get_vec2(r, "domain.y_range", {0, 0});
+  c.scene.gravity = get_vec2(r, "scene.gravity");
+  c.domain.x_range = get_vec2(r, "domain.x_range");
+  c.domain.y_range = get_vec2(r, "domain.y_range");
   if (auto a = r.at_path("domain.periodic").as_array())
-    c.domain.periodic = {(*a)[0].value_or(true), (*a)[1].value_or(false)};
+    c.domain.periodic = {(*a)[0].value_or(false), (*a)[1].value_or(false)};
   if (auto a = r.at_path("domain.walls").as_array())
     for (const auto& e : *a) {
       const std::string w = e.value_or(std::string());
@@ -328,69 +374,69 @@ Case build_case(const toml::table& r) {
       c.domain.wall_left |= w == "left";
       c.domain.wall_right |= w == "right";
     }
-  c.domain.lid_pressure = get_real(r, "domain.lid_pressure", 0);
+  c.domain.lid_pressure = get_real(r, "domain.lid_pressure");
   auto& g = c.grains;
-  g.diameter = get_real(r, "grains.diameter", 0);
-  g.polydispersity = get_real(r, "grains.polydispersity", 0.1);
-  g.density = get_real(r, "grains.density", 0);
-  g.area_fraction = get_real(r, "grains.area_fraction", 0);
-  g.friction = get_real(r, "grains.friction", 0.5);
+  g.diameter = get_real(r, "grains.diameter");
+  g.polydispersity = get_real(r, "grains.polydispersity");
+  g.density = get_real(r, "grains.density");
+  g.area_fraction = get_real(r, "grains.area_fraction");
+  g.friction = get_real(r, "grains.friction");
   auto& ct = g.contact;
-  ct.law = get_text(r, "grains.contact.law", "kumar2019");
-  ct.kn = get_real(r, "grains.contact.kn", ct.kn);
-  ct.kt = get_real(r, "grains.contact.kt", ct.kt);
-  ct.gamma_n = get_real(r, "grains.contact.gamma_n", ct.gamma_n);
-  ct.gamma_t = get_real(r, "grains.contact.gamma_t", ct.gamma_t);
-  ct.youngs_modulus = get_real(r, "grains.contact.youngs_modulus", ct.youngs_modulus);
-  ct.poisson_ratio = get_real(r, "grains.contact.poisson_ratio", ct.poisson_ratio);
-  ct.restitution = get_real(r, "grains.contact.restitution", ct.restitution);
+  ct.law = get_text(r, "grains.contact.law");
+  ct.kn = get_real(r, "grains.contact.kn");
+  ct.kt = get_real(r, "grains.contact.kt");
+  ct.gamma_n = get_real(r, "grains.contact.gamma_n");
+  ct.gamma_t = get_real(r, "grains.contact.gamma_t");
+  ct.youngs_modulus = get_real(r, "grains.contact.youngs_modulus");
+  ct.poisson_ratio = get_real(r, "grains.contact.poisson_ratio");
+  ct.restitution = get_real(r, "grains.contact.restitution");
   auto& in = c.intruder;
-  in.diameter = get_real(r, "intruder.diameter", 0);
-  in.position = get_vec2(r, "intruder.position", {0, 0});
-  in.velocity = get_vec2(r, "intruder.velocity", {0, 0});
-  in.omega = get_real(r, "intruder.omega", 0);
-  in.spin_ramp_time = get_real(r, "intruder.spin_ramp_time", 0);
-  in.friction = get_real(r, "intruder.friction", g.friction);
+  in.diameter = get_real(r, "intruder.diameter");
+  in.position = get_vec2(r, "intruder.position");
+  in.velocity = get_vec2(r, "intruder.velocity");
+  in.omega = get_real(r, "intruder.omega");
+  in.spin_ramp_time = get_real(r, "intruder.spin_ramp_time");
+  in.friction = get_real(r, "intruder.friction");
   auto& dm = c.dem;
-  dm.dt = get_real(r, "dem.dt", dm.dt);
-  dm.max_dt_fraction = get_real(r, "dem.max_dt_fraction", dm.max_dt_fraction);
-  dm.travel = get_real(r, "dem.travel", dm.travel);
-  dm.steady_travel = get_real(r, "dem.steady_travel", dm.steady_travel);
-  dm.seed = std::uint64_t(get_int(r, "dem.seed", 1));
-  dm.sample_every = int(get_int(r, "dem.sample_every", dm.sample_every));
-  dm.field_every = int(get_int(r, "dem.field_every", dm.field_every));
-  dm.relax_ke = get_real(r, "dem.relax_ke", dm.relax_ke);
-  dm.packing_cache = get_text(r, "dem.packing_cache", dm.packing_cache);
+  dm.dt = get_real(r, "dem.dt");
+  dm.max_dt_fraction = get_real(r, "dem.max_dt_fraction");
+  dm.travel = get_real(r, "dem.travel");
+  dm.steady_travel = get_real(r, "dem.steady_travel");
+  dm.seed = std::uint64_t(get_int(r, "dem.seed"));
+  dm.sample_every = int(get_int(r, "dem.sample_every"));
+  dm.field_every = int(get_int(r, "dem.field_every"));
+  dm.relax_ke = get_real(r, "dem.relax_ke");
+  dm.packing_cache = get_text(r, "dem.packing_cache");
   auto& cn = c.continuum;
-  cn.ambient_pressure = get_real(r, "continuum.ambient_pressure", 0);
-  cn.mu_s = get_real(r, "continuum.mu_s", cn.mu_s);
-  cn.mu_2 = get_real(r, "continuum.mu_2", cn.mu_2);
-  cn.I0 = get_real(r, "continuum.I0", cn.I0);
-  cn.regularisation = get_text(r, "continuum.regularisation", cn.regularisation);
-  cn.delta = get_real(r, "continuum.delta", cn.delta);
-  cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN", cn.barker_gray_IN);
-  cn.eta_max = get_real(r, "continuum.eta_max", cn.eta_max);
-  cn.pressure_smoothing = get_real(r, "continuum.pressure_smoothing", cn.pressure_smoothing);
-  cn.gravity_treatment = get_text(r, "continuum.gravity_treatment", cn.gravity_treatment);
-  cn.wall = get_text(r, "continuum.wall", cn.wall);
-  cn.wall_friction = get_real(r, "continuum.wall_friction", in.friction);
-  cn.inertia = get_text(r, "continuum.inertia", cn.inertia);
-  cn.box_half_size = get_vec2(r, "continuum.box_half_size", {0, 0});
-  cn.refinement = int(get_int(r, "continuum.refinement", cn.refinement));
-  cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles", cn.adaptive_cycles));
-  cn.tolerance = get_real(r, "continuum.tolerance", cn.tolerance);
-  cn.max_iterations = int(get_int(r, "continuum.max_iterations", cn.max_iterations));
-  cn.picard_iterations = int(get_int(r, "continuum.picard_iterations", cn.picard_iterations));
-  cn.linear_solver = get_text(r, "continuum.linear_solver", cn.linear_solver);
+  cn.ambient_pressure = get_real(r, "continuum.ambient_pressure");
+  cn.mu_s = get_real(r, "continuum.mu_s");
+  cn.mu_2 = get_real(r, "continuum.mu_2");
+  cn.I0 = get_real(r, "continuum.I0");
+  cn.regularisation = get_text(r, "continuum.regularisation");
+  cn.delta = get_real(r, "continuum.delta");
+  cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN");
+  cn.eta_max = get_real(r, "continuum.eta_max");
+  cn.pressure_smoothing = get_real(r, "continuum.pressure_smoothing");
+  cn.gravity_treatment = get_text(r, "continuum.gravity_treatment");
+  cn.wall = get_text(r, "continuum.wall");
+  cn.wall_friction = get_real(r, "continuum.wall_friction");
+  cn.inertia = get_text(r, "continuum.inertia");
+  cn.box_half_size = get_vec2(r, "continuum.box_half_size");
+  cn.refinement = int(get_int(r, "continuum.refinement"));
+  cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
+  cn.tolerance = get_real(r, "continuum.tolerance");
+  cn.max_iterations = int(get_int(r, "continuum.max_iterations"));
+  cn.picard_iterations = int(get_int(r, "continuum.picard_iterations"));
+  cn.linear_solver = get_text(r, "continuum.linear_solver");
   auto& o = c.output;
-  o.angles = int(get_int(r, "output.angles", o.angles));
-  o.kernel_width_deg = get_real(r, "output.kernel_width_deg", o.kernel_width_deg);
-  o.histogram_bins = int(get_int(r, "output.histogram_bins", o.histogram_bins));
-  o.blocks = int(get_int(r, "output.blocks", o.blocks));
-  o.fields = get_bool(r, "output.fields", o.fields);
-  o.field_spacing = get_real(r, "output.field_spacing", o.field_spacing);
-  o.field_half_size = get_vec2(r, "output.field_half_size", o.field_half_size);
-  o.vtu = get_bool(r, "output.vtu", o.vtu);
+  o.angles = int(get_int(r, "output.angles"));
+  o.kernel_width_deg = get_real(r, "output.kernel_width_deg");
+  o.histogram_bins = int(get_int(r, "output.histogram_bins"));
+  o.blocks = int(get_int(r, "output.blocks"));
+  o.fields = get_bool(r, "output.fields");
+  o.field_spacing = get_real(r, "output.field_spacing");
+  o.field_half_size = get_vec2(r, "output.field_half_size");
+  o.vtu = get_bool(r, "output.vtu");
   return c;
 }
 

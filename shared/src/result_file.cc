@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "grainlift/shared/atomic_file.h"
+#include "grainlift/shared/derived_quantities.h"
 #include "grainlift/shared/errors.h"
 
 namespace grainlift {
@@ -197,6 +198,29 @@ void write_body(hid_t file, const RunResult& r) {
     dataset_doubles(g, "tangential_force", h.tangential_force, "N/m");
     dataset_doubles(g, "slip_fraction", h.slip_fraction, "1");
   }
+  {
+    // derived quantities, computed by derive() (derived_quantities.h), for scripts to read
+    const DerivedQuantities q = derive(r);
+    Handle g = make_group(file, "derived");
+    attr_number(g, "spin_ratio", q.spin_ratio);
+    if (q.lift_over_drag) attr_number(g, "lift_over_drag", *q.lift_over_drag);
+    if (q.buoyancy) attr_number(g, "buoyancy", *q.buoyancy);
+    if (q.lift_over_buoyancy) attr_number(g, "lift_over_buoyancy", *q.lift_over_buoyancy);
+    if (!q.sigma_n_symmetric.empty()) {
+      dataset_doubles(g, "sigma_n_symmetric", q.sigma_n_symmetric, "Pa");
+      dataset_doubles(g, "sigma_n_antisymmetric", q.sigma_n_antisymmetric, "Pa");
+      dataset_doubles(g, "sigma_t_symmetric", q.sigma_t_symmetric, "Pa");
+      dataset_doubles(g, "sigma_t_antisymmetric", q.sigma_t_antisymmetric, "Pa");
+    }
+  }
+  if (!r.diagnostics.empty()) {
+    const Diagnostics& d = r.diagnostics;
+    Handle g = make_group(file, "diagnostics");
+    for (const auto& [name, v] : d.counts) attr_number(g, name.c_str(), v);
+    for (const auto& [name, v] : d.values) attr_number(g, name.c_str(), v);
+    for (const auto& [name, v] : d.texts) attr_string(g, name.c_str(), v);
+    for (const auto& [name, v] : d.series) dataset_doubles(g, name.c_str(), v, "1");
+  }
   if (r.fields) {
     const FieldGrid& fg = *r.fields;
     Handle g = make_group(file, "fields");
@@ -277,6 +301,39 @@ std::optional<std::vector<double>> read_optional(hid_t parent, const char* name)
   return read_doubles(parent, name);
 }
 
+/// Every attribute of /diagnostics by its HDF5 class (integer, float, string), every dataset as
+/// a series.
+void read_diagnostics(hid_t g, Diagnostics& d) {
+  std::vector<std::string> names;
+  const auto collect = [](hid_t, const char* name, const H5A_info_t*, void* out) -> herr_t {
+    static_cast<std::vector<std::string>*>(out)->push_back(name);
+    return 0;
+  };
+  check(H5Aiterate2(g, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names), "H5Aiterate2");
+  for (const std::string& name : names) {
+    Handle a(H5Aopen(g, name.c_str(), H5P_DEFAULT), H5Aclose);
+    if (!a.valid()) throw InputError("unreadable attribute in /diagnostics");
+    Handle type(H5Aget_type(a), H5Tclose);
+    switch (H5Tget_class(type)) {
+      case H5T_INTEGER: d.counts[name] = read_attr_int(g, name.c_str()); break;
+      case H5T_FLOAT: d.values[name] = read_attr_double(g, name.c_str()); break;
+      case H5T_STRING: d.texts[name] = read_attr_string(g, name.c_str()); break;
+      default: throw InputError(fmt::format("/diagnostics attribute {} has an unknown type", name));
+    }
+  }
+  H5G_info_t ginfo;
+  check(H5Gget_info(g, &ginfo), "H5Gget_info");
+  for (hsize_t i = 0; i < ginfo.nlinks; ++i) {
+    const ssize_t n = H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                         H5P_DEFAULT);
+    if (n < 0) throw InputError("unreadable dataset in /diagnostics");
+    std::string name(static_cast<std::size_t>(n), '\0');
+    H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
+                       H5P_DEFAULT);
+    d.series[name] = read_doubles(g, name.c_str());
+  }
+}
+
 RunResult read_body(hid_t file) {
   RunResult r;
   if (read_attr_string(file, "schema") != "grainlift")
@@ -331,6 +388,10 @@ RunResult read_body(hid_t file) {
     l.mass = read_attr_double(g, "mass");
     l.damping = read_attr_double(g, "damping");
     r.lid = std::move(l);
+  }
+  if (exists(file, "diagnostics")) {
+    Handle g(H5Gopen2(file, "diagnostics", H5P_DEFAULT), H5Gclose);
+    read_diagnostics(g, r.diagnostics);
   }
   if (exists(file, "means")) {
     Handle g(H5Gopen2(file, "means", H5P_DEFAULT), H5Gclose);

@@ -9,6 +9,7 @@
 
 #include "grainlift/shared/atomic_file.h"
 #include "grainlift/shared/compare.h"
+#include "grainlift/shared/derived_quantities.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/json_writer.h"
 #include "grainlift/shared/result_file.h"
@@ -47,17 +48,13 @@ JsonObject summary_object(const RunResult& r) {
     o.add("torque_stderr", r.means->torque_stderr);
     if (r.means->contacts) o.add("contacts", *r.means->contacts);
     o.add("samples", static_cast<long long>(r.means->samples));
-    if (r.means->drag != 0) o.add("lift_over_drag", r.means->lift / r.means->drag);
   }
-  const double speed = std::hypot(r.geometry.velocity_x, r.geometry.velocity_y);
-  o.add("spin_ratio", speed > 0 ? r.geometry.omega * 0.5 * r.geometry.intruder_diameter / speed
-                                : 0.0);
-  const double g = std::hypot(r.geometry.gravity_x, r.geometry.gravity_y);
-  if (g > 0 && r.means) {
-    const double buoyancy = r.geometry.bulk_density * g * 3.14159265358979323846 *
-                            r.geometry.intruder_diameter * r.geometry.intruder_diameter / 4;
-    o.add("buoyancy", buoyancy);
-    o.add("lift_over_buoyancy", r.means->lift / buoyancy);
+  const DerivedQuantities q = derive(r);
+  if (q.lift_over_drag) o.add("lift_over_drag", *q.lift_over_drag);
+  o.add("spin_ratio", q.spin_ratio);
+  if (q.buoyancy) {
+    o.add("buoyancy", *q.buoyancy);
+    o.add("lift_over_buoyancy", *q.lift_over_buoyancy);
   }
   if (r.lid) {
     o.add("lid_pressure_target", r.lid->target);

@@ -8,6 +8,7 @@
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/lid.h"
+#include "grainlift/dem/system_setup.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/simulation.h"
 #include "dem_beds.h"
@@ -15,8 +16,6 @@
 namespace gd = grainlift::dem;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// 30 d x 20 d box of Kumar grains at Phi 0.82, periodic in x, bottom wall and
 /// a lid on top, no gravity.
@@ -62,26 +61,15 @@ TEST(PressureLid, MeanLidPressureAndBedStressEqualTheTarget) {
   const auto c = lid_case(pressure);
   const double d = c.grain_diameter;
   const gd::PackedBed bed = gd::prepare_packing(c);
-  gd::SystemOptions o;
-  o.box = {c.xmin, c.xmax, c.ymin, c.ymax, true, false};
-  o.contact = c.contact;
-  o.dt = c.dt;
-  gd::DemSystem s(o);
-  std::vector<gd::Disk> grains(bed.r.size());
-  for (std::size_t n = 0; n < grains.size(); ++n) {
-    grains[n].x = bed.x[n];
-    grains[n].y = bed.y[n];
-    grains[n].r = bed.r[n];
-    grains[n].mass = c.density * kPi * bed.r[n] * bed.r[n];
-  }
-  s.set_bodies(grains, gd::make_wall_disks(c));
-  gd::PressureLid lid(c, s);
+  const auto system = gd::system_on_bed(c, bed);
+  gd::DemSystem& s = *system;
+  s.attach_lid(gd::PressureLid(c, s));
+  const gd::PressureLid& lid = *s.lid();
   const double y0 = lid.state().y;
   // settling: ~10 periods of the lid on the bed's estimated stiffness
   const long settle = 60000, average = 20000;
   for (long k = 0; k < settle; ++k) {
     s.step();
-    lid.advance(s);
   }
   const double y_start = lid.state().y;
   double p_sum = 0, sigma_sum = 0;
@@ -89,7 +77,6 @@ TEST(PressureLid, MeanLidPressureAndBedStressEqualTheTarget) {
   const double y_bottom = c.ymin + 0.5 * d;
   for (long k = 0; k < average; ++k) {
     s.step();
-    lid.advance(s);
     p_sum += lid.state().pressure;
     if (k % 1000 == 999) {
       sigma_sum += mean_contact_stress_yy(s, (c.xmax - c.xmin) * (lid.state().y - y_bottom));

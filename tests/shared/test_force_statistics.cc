@@ -1,4 +1,4 @@
-// Drag and lift follow targets.md: D = -F.V/|V|, L = F.(z x V/|V|); block averages give the
+// Drag and lift follow docs/conventions.md: D = -F.V/|V|, L = F.(z x V/|V|); block averages give the
 // right standard error for independent samples.
 #include <gtest/gtest.h>
 

@@ -80,7 +80,7 @@ struct ContinuumConfig {
   /// with the Newton Jacobian at the base state, J du = -R_g(u_0), R_g the residual with gravity.
   bool linearised_gravity = false;
   // ---- numerics
-  int refinement = 3;                   ///< global refinement level of the base mesh
+  int refinement = 2;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;
   double nonlinear_tolerance = 1e-8;    ///< relative residual
   int max_nonlinear_iterations = 50;

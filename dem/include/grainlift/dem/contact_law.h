@@ -25,6 +25,13 @@ struct LawCoefficients {
 
   /// @brief Derive the coefficients of the chosen law. Throws ConfigError on bad values.
   static LawCoefficients from(const ContactParams& p);
+
+  /// @brief The Hertz stiffness k of the law's normal spring, F_n = k delta^(3/2) (N/m^(3/2)),
+  /// for a contact of effective radius @p r_eff (m): Kumar 2019 eq. (1), k = Kn sqrt(R_eff);
+  /// Guillard 2014 Table I, k = kn* = (2/3) E/(1-nu^2) sqrt(R_eff).
+  double hertz_stiffness(double r_eff) const {
+    return (law == ContactLaw::kumar2019 ? kn : hertz_kn_factor) * std::sqrt(r_eff);
+  }
 };
 
 /// Kinematics of one contact, filled by the caller. "i" is the body the force acts on,
@@ -39,6 +46,35 @@ struct ContactKinematics {
   double dsx = 0, dsy = 0;  ///< m, tangential relative displacement of the contact point from t to t+dt
   double mu = 0;          ///< Coulomb coefficient of this pair
 };
+
+/// Velocity (m/s) and angular velocity (rad/s, counter-clockwise) of one body of a contact
+/// at one time level.
+struct BodyVelocity {
+  double vx = 0, vy = 0, w = 0;
+};
+
+/// @brief The motion of the contact point of bodies i and j (radii @p ri, @p rj, m; unit
+/// normal (nx, ny) from j to i, tangent t = (-ny, nx)), written once for pairs, walls and the
+/// intruder. From the predicted velocities at t+dt (@p pi, @p pj): the relative velocity
+/// v_r = v_i - v_j - (w_i r_i + w_j r_j) t split into vn = v_r.n and v_t = v_r - vn n; from
+/// the half-step velocities (@p hi, @p hj): the tangential displacement of the contact point
+/// over the step, ds = dt (v_i - v_j - (w_i r_i + w_j r_j) t) (m). Fills k.vn, k.vtx, k.vty,
+/// k.dsx, k.dsy.
+inline void contact_point_motion(double nx, double ny, double ri, double rj,
+                                 const BodyVelocity& pi, const BodyVelocity& pj,
+                                 const BodyVelocity& hi, const BodyVelocity& hj, double dt,
+                                 ContactKinematics& k) {
+  const double tx = -ny, ty = nx;
+  const double wp = pi.w * ri + pj.w * rj;
+  const double vrx = pi.vx - pj.vx - wp * tx;
+  const double vry = pi.vy - pj.vy - wp * ty;
+  k.vn = vrx * nx + vry * ny;
+  k.vtx = vrx - k.vn * nx;
+  k.vty = vry - k.vn * ny;
+  const double wh = hi.w * ri + hj.w * rj;
+  k.dsx = dt * (hi.vx - hj.vx - wh * tx);
+  k.dsy = dt * (hi.vy - hj.vy - wh * ty);
+}
 
 /// Result of one contact evaluation (force on i; the force on j is its opposite).
 struct ContactForce {
@@ -143,7 +179,7 @@ inline void contact_force(const LawCoefficients& c, const ContactKinematics& k, 
   } else {
     const double sd = std::sqrt(k.delta);
     const double qd = std::sqrt(sd);  // delta^(1/4)
-    const double kns = c.hertz_kn_factor * std::sqrt(k.r_eff);
+    const double kns = c.hertz_stiffness(k.r_eff);
     const double kts = c.hertz_kt_ratio * kns;
     an = kns * sd;
     at = kts * sd;

@@ -23,6 +23,22 @@ struct ContactBatch {
   alignas(64) double sx[kLanes], sy[kLanes];
   alignas(64) double fx[kLanes], fy[kLanes], ftx[kLanes], fty[kLanes];
 
+  /// @brief Lane @p l from the kinematics @p k (its mu aside) and the spring (@p s_x, @p s_y).
+  void set(std::size_t l, const ContactKinematics& k, double s_x, double s_y) {
+    nx[l] = k.nx;
+    ny[l] = k.ny;
+    delta[l] = k.delta;
+    r_eff[l] = k.r_eff;
+    m_eff[l] = k.m_eff;
+    vn[l] = k.vn;
+    vtx[l] = k.vtx;
+    vty[l] = k.vty;
+    dsx[l] = k.dsx;
+    dsy[l] = k.dsy;
+    sx[l] = s_x;
+    sy[l] = s_y;
+  }
+
   /// The inputs of lane @p l as contact_force() takes them, with the Coulomb coefficient @p mu.
   ContactKinematics kinematics(std::size_t l, double mu) const {
     ContactKinematics k;

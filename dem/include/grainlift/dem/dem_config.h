@@ -1,5 +1,5 @@
 // Plain-data description of one DEM run, filled from the case file by the glue in
-// dem/src/dem_solver.cc. No I/O, no TOML, no HDF5 here: the engine sees only numbers.
+// dem/glue/dem_solver.cc. No I/O, no TOML, no HDF5 here: the engine sees only numbers.
 #pragma once
 
 #include <array>

@@ -51,6 +51,8 @@ struct DemOutput {
   double collision_time = 0;              ///< s, binary collision time used for the dt check
   bool packing_from_cache = false;
   long long steps = 0;
+  int list_builds = 0;                    ///< Verlet-list builds during the run
+  int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)
   std::vector<LidSample> lid;             ///< one per force sample; empty without a lid
   double lid_mass = 0, lid_damping = 0;   ///< kg, kg/s: the lid actually used
 };

@@ -1,16 +1,19 @@
-// The state of a DEM system (grains, frozen wall disks, one prescribed intruder) and its
-// synchronised velocity-Verlet time step. No I/O; no allocation inside step() once the
-// neighbour list has reached its working size.
+// The state of a DEM system (grains, frozen wall disks, one prescribed intruder, an optional
+// pressure lid) and its synchronised velocity-Verlet time step, whose stages live in their own
+// files (see dem_system.cc). No I/O; no allocation inside step() once the neighbour list has
+// reached its working size.
 #pragma once
 
 #include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_config.h"
+#include "grainlift/dem/lid.h"
 #include "grainlift/dem/neighbor_list.h"
 #include "grainlift/dem/periodic_box.h"
 
@@ -113,16 +116,20 @@ class DemSystem {
   /// contact stress of the fields reads them). Off, a one-thread run skips those stores; the
   /// forces on the bodies are the same bits either way.
   void set_store_pair_forces(bool on) {
+    on = on || lid_.has_value();  // the lid reads them
     if (on != store_pair_forces_) full_history_check_ = true;
     store_pair_forces_ = on;
   }
   /// @brief Set every grain velocity and angular velocity to zero.
   void zero_velocities();
-  /// @brief Move the frozen disks with particle indices [begin, end) by dy (m) and give them
-  /// the velocity (0, vy) (m/s) in the contact law (the pressure lid; defined in lid.cc).
-  void move_frozen(int begin, int end, double dy, double vy);
+  /// @brief Make @p lid a boundary of the system: after the forces of every step it moves its
+  /// frozen disks under the force the grains exert on them (stage 3, see dem_system.cc). Keeps
+  /// the per-pair forces (the lid's force is read from them).
+  void attach_lid(const PressureLid& lid);
+  /// The lid, or nullptr without one.
+  const PressureLid* lid() const { return lid_ ? &*lid_ : nullptr; }
   /// @brief y force (N) of the grains on the frozen disks [begin, end) at the last step, from
-  /// the stored pair forces (set_store_pair_forces(true) is needed; defined in lid.cc).
+  /// the stored pair forces (set_store_pair_forces(true) is needed).
   double frozen_force_y(int begin, int end) const;
 
   // ---- measurements
@@ -174,8 +181,21 @@ class DemSystem {
   /// Work item @p c of the drift that opens a segment: 0 the intruder (its displacement into
   /// @p idisp; returns 0), 1 + k the rows of chunk k (returns their largest squared displacement).
   double drift_item(int c, double& idisp);
-  /// Runs up to m steps in one parallel region; stops early (state drifted) when the lists
-  /// need a rebuild. Returns the steps completed.
+  /// Whether the lists must be rebuilt before the next step: some grain may have moved by
+  /// half the skin since the build (max_d2: largest squared displacement, m^2, plus the
+  /// rounding of the build positions, radius growth and frozen-disk motion), or the intruder
+  /// and a grain by the skin together. Never right after a build (fresh).
+  bool rebuild_due(double max_d2, double intruder_disp, bool fresh) const;
+  /// The boundaries of stage 3: the lid, from the pair forces of this step.
+  void step_boundaries();
+  /// The clock, and the intruder's drift of the next step unless @p last (its displacement
+  /// since the build into @p intruder_disp).
+  void advance_clock(bool last, double& intruder_disp);
+  /// Move the frozen disks [begin, end) by dy (m), with the velocity (0, vy) (m/s) in the
+  /// contact law.
+  void move_frozen(int begin, int end, double dy, double vy);
+  /// Runs up to m steps on one thread; stops early (state drifted) when the lists need a
+  /// rebuild. Returns the steps completed.
   long long run_segment(long long m);
   /// The same on a team of threads, without a barrier inside the segment (items with
   /// per-chunk dependencies, see dem_system.cc).
@@ -219,6 +239,7 @@ class DemSystem {
   bool radii_scaled_ = false;  ///< a radius changed since the build: pair constants stale
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
+  std::optional<PressureLid> lid_;
   Intruder intruder_;
   IntruderContacts ic_;
   IntruderContacts ic_old_;

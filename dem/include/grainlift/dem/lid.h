@@ -1,11 +1,14 @@
 // Pressure-controlled lid (Guillard 2014 method iii in 2D): the top wall of frozen disks moves
-// as one rigid body along y under a prescribed confining pressure. See docs/dem-model.md.
+// as one rigid body along y under a prescribed confining pressure. A boundary that owns its
+// state (position, velocity, measured pressure, mass, damping); DemSystem moves its disks after
+// the forces of every step (DemSystem::attach_lid). See docs/dem-model.md.
 #pragma once
 
 #include "grainlift/dem/dem_config.h"
-#include "grainlift/dem/dem_system.h"
 
 namespace grainlift::dem {
+
+class DemSystem;
 
 /// One sample of the lid.
 struct LidState {
@@ -17,24 +20,28 @@ struct LidState {
 /// The top wall as a rigid lid with mass M and linear damping c:
 ///   M dv/dt = F_grains - P W - c v,   dy/dt = v,
 /// F_grains the y force of the grains on the lid disks (N in the engine's units), W the box
-/// width (m), P the target pressure (N/m). Integrated after each DemSystem step by symplectic
-/// Euler with the damping implicit:
+/// width (m), P the target pressure (N/m). Integrated once per step, after the forces, by
+/// symplectic Euler with the damping implicit:
 ///   v' = (v + dt (F_grains - P W) / M) / (1 + c dt / M),   y' = y + dt v'.
 /// The lid disks are moved by dt v' and carry v' as their velocity in the contact law.
 class PressureLid {
  public:
   /// @brief Take the top-wall disks of cfg (frozen indices in s) as the lid. cfg.lid_pressure
   /// > 0, cfg.wall_top, !cfg.periodic_y (validate_config checks). Mass and damping from cfg or,
-  /// when 0 there, lid_mass() and lid_damping() below. s must hold the bodies already.
-  PressureLid(const DemConfig& cfg, DemSystem& s);
+  /// when 0 there, default_mass() and default_damping() below. s must hold the bodies already.
+  PressureLid(const DemConfig& cfg, const DemSystem& s);
 
-  /// @brief Measure the grain force on the lid at the state of s and advance the lid one dt.
-  void advance(DemSystem& s);
+  /// @brief One step of the lid's equation of motion under the grain force @p force_y (N) over
+  /// @p dt (s). Returns the lid's displacement dt v' (m); state() then holds y', v' and the
+  /// pressure force_y / W.
+  double advance(double force_y, double dt);
 
   /// Lid state after the last advance() (pressure: the force measured in that call).
   const LidState& state() const { return state_; }
   double mass() const { return mass_; }        ///< kg
   double damping() const { return damping_; }  ///< kg/s
+  int begin() const { return begin_; }         ///< first particle index of the lid disks
+  int end() const { return end_; }             ///< one past the last
   int disks() const { return end_ - begin_; }
 
   /// @brief Default lid mass: the mass of the grains of the bed (kg), a heavy lid whose
@@ -43,7 +50,7 @@ class PressureLid {
   /// @brief Default damping: critical, c = 2 sqrt(K M), for the bed's estimated stiffness
   /// K = k_lin W / H: columns of mean grains in series, each contact linearised at the
   /// load P d of the target pressure: k_lin = (3/2) k^(2/3) (P d)^(1/3) with F = k delta^(3/2)
-  /// (kumar2019: k = Kn sqrt(R_eff); guillard2014: k = kn*), R_eff = d/4. kg/s.
+  /// (LawCoefficients::hertz_stiffness, R_eff = d/4). kg/s.
   static double default_damping(const DemConfig& cfg, double mass);
 
  private:

@@ -12,8 +12,9 @@ namespace grainlift::dem {
 /// (frozen disks sit at indices >= n_mobile), kept when |x_i - x_j| < r_i + r_j + skin.
 /// Each row is sorted by j, so the tangential history of a pair that survives a rebuild is
 /// carried over by a merge of the old and new rows. Per-pair outputs (force on i, n x F_t)
-/// are written by the force loop and summed per particle by gather(), in a fixed order:
-/// results do not depend on the thread count.
+/// are written by the force loop (pair_forces.cc) and summed per particle at the kick
+/// (velocity_verlet.cc) in pair order, through rfirst/rpair for the partners: results do
+/// not depend on the thread count.
 class NeighborList {
  public:
   /// @brief Rebuild the list from wrapped positions and carry the history over.

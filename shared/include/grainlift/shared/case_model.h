@@ -1,6 +1,7 @@
 // The typed, validated image of one case file (docs/case-format.md). Everything here has
-// been range-checked by the loader; defaults are filled in. SI units throughout unless a
-// field says otherwise.
+// been range-checked by the loader, which fills every absent key with the default of the key
+// registry (case_keys.cc), the only place a default is written: the members here are only
+// zero-initialised. SI units throughout unless a field says otherwise.
 #pragma once
 
 #include <array>
@@ -13,85 +14,85 @@ namespace grainlift {
 using Vec2 = std::array<double, 2>;
 
 struct SceneSection {
-  Vec2 gravity{0, 0};            ///< m/s^2
+  Vec2 gravity{};            ///< m/s^2
 };
 
 struct DomainSection {
-  Vec2 x_range{0, 0}, y_range{0, 0};  ///< m
-  std::array<bool, 2> periodic{true, false};
-  bool wall_bottom = false, wall_top = false, wall_left = false, wall_right = false;
-  double lid_pressure = 0;  ///< Pa (2D reading), confining pressure on the top-wall lid; 0 = fixed wall
+  Vec2 x_range{}, y_range{};  ///< m
+  std::array<bool, 2> periodic{};
+  bool wall_bottom{}, wall_top{}, wall_left{}, wall_right{};
+  double lid_pressure{};  ///< Pa (2D reading), confining pressure on the top-wall lid; 0 = fixed wall
 };
 
 struct IntruderSection {
-  double diameter = 0;        ///< m
-  Vec2 position{0, 0};        ///< m
-  Vec2 velocity{0, 0};        ///< m/s
-  double omega = 0;           ///< rad/s, counter-clockwise positive
-  double spin_ramp_time = 0;  ///< s
-  double friction = 0;        ///< grain-intruder Coulomb coefficient (default: grains.friction)
+  double diameter{};        ///< m
+  Vec2 position{};        ///< m
+  Vec2 velocity{};        ///< m/s
+  double omega{};           ///< rad/s, counter-clockwise positive
+  double spin_ramp_time{};  ///< s
+  double friction{};        ///< grain-intruder Coulomb coefficient (default: grains.friction)
 };
 
 struct ContactSection {
-  std::string law = "kumar2019";  ///< "kumar2019" | "guillard2014"
-  double kn = 2e9, kt = 2.45e9;   ///< Pa (Kumar Table I)
-  double gamma_n = 8e6, gamma_t = 8e6;  ///< 1/(m s)
-  double youngs_modulus = 5e6;    ///< Pa (Guillard Table I)
-  double poisson_ratio = 0.45;
-  double restitution = 0.6;
+  std::string law;  ///< "kumar2019" | "guillard2014"
+  double kn{}, kt{};   ///< Pa (Kumar Table I)
+  double gamma_n{}, gamma_t{};  ///< 1/(m s)
+  double youngs_modulus{};    ///< Pa (Guillard Table I)
+  double poisson_ratio{};
+  double restitution{};
 };
 
 struct GrainsSection {
-  double diameter = 0;          ///< m, mean
-  double polydispersity = 0.1;  ///< relative half-width of the uniform size distribution
-  double density = 0;           ///< kg/m^3 per unit length = 2D mass per area kg/m^2
-  double area_fraction = 0;
-  double friction = 0.5;
+  double diameter{};          ///< m, mean
+  double polydispersity{};  ///< relative half-width of the uniform size distribution
+  double density{};           ///< kg/m^3 per unit length = 2D mass per area kg/m^2
+  double area_fraction{};
+  double friction{};
   ContactSection contact;
 };
 
 struct DemSection {
-  double dt = 2e-6;             ///< s
-  double max_dt_fraction = 0.1;
-  double travel = 300;          ///< mean grain diameters
-  double steady_travel = 30;    ///< mean grain diameters
-  std::uint64_t seed = 1;
-  int sample_every = 50;
-  int field_every = 500;
-  double relax_ke = 1e-9;       ///< J per grain
-  std::string packing_cache = "auto";
+  double dt{};             ///< s
+  double max_dt_fraction{};
+  double travel{};          ///< mean grain diameters
+  double steady_travel{};    ///< mean grain diameters
+  std::uint64_t seed{};
+  int sample_every{};
+  int field_every{};
+  double relax_ke{};       ///< J per grain
+  std::string packing_cache;
 };
 
 struct ContinuumSection {
-  double ambient_pressure = 0;  ///< Pa, P0 at the intruder centre on top of the lithostatic part
-  double mu_s = 0.38, mu_2 = 0.64, I0 = 0.279;
-  std::string regularisation = "barker_gray";
-  double delta = 1e-3;          ///< 1/s
-  double eta_max = 1e4;         ///< Pa s
-  double pressure_smoothing = 0;  ///< p_eps / P0 (0 = hard clamp max(p, 0))
-  double barker_gray_IN = 0;      ///< 0 = automatic (see continuum.barker_gray_IN)
-  std::string gravity_treatment = "full";  ///< "full" or "linearised"
-  std::string wall = "no_slip";
-  double wall_friction = 0;     ///< default: intruder.friction
-  std::string inertia = "auto";
-  Vec2 box_half_size{0, 0};     ///< m; 0 = from the domain
-  int refinement = 2;
-  int adaptive_cycles = 0;
-  double tolerance = 1e-8;
-  int max_iterations = 50;
-  int picard_iterations = 5;
-  std::string linear_solver = "direct";
+  double ambient_pressure{};  ///< Pa, P0 at the intruder centre on top of the lithostatic part
+  double mu_s{}, mu_2{}, I0{};
+  std::string regularisation;
+  double delta{};          ///< 1/s
+  double eta_max{};         ///< Pa s
+  double pressure_smoothing{};  ///< p_eps / P0 (0 = hard clamp max(p, 0))
+  double barker_gray_IN{};      ///< 0 = automatic (see continuum.barker_gray_IN)
+  std::string gravity_treatment;  ///< "full" or "linearised"
+  std::string wall;
+  double wall_friction{};     ///< default: intruder.friction
+  std::string inertia;
+  Vec2 box_half_size{};     ///< m; 0 = from the domain
+  int refinement{};
+  int adaptive_cycles{};
+  double tolerance{};
+  int max_iterations{};
+  int picard_iterations{};
+  std::string linear_solver;
 };
 
 struct OutputSection {
-  int angles = 64;              ///< M of Guillard eq. (A4)
-  double kernel_width_deg = 8;  ///< Gaussian standard deviation
-  int histogram_bins = 24;      ///< pi/12 bins as in Kumar Fig. 6
-  int blocks = 20;              ///< blocks for standard errors
-  bool fields = true;
-  double field_spacing = 0.5;   ///< mean grain diameters
-  Vec2 field_half_size{3, 3};   ///< intruder diameters
-  bool vtu = true;
+  int angles{};              ///< M of Guillard eq. (A4)
+  double kernel_width_deg{};  ///< Gaussian standard deviation
+  int histogram_bins{};      ///< pi/12 bins as in Kumar Fig. 6
+  int blocks{};              ///< blocks for standard errors
+  bool fields{};
+  double field_spacing{};   ///< mean grain diameters
+  Vec2 field_half_size{};   ///< intruder diameters
+  bool vtu{};
 };
 
 /// Where a case came from, kept verbatim for the output file.

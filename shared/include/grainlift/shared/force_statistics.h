@@ -1,4 +1,4 @@
-// Drag and lift by the conventions of targets.md, and block-averaged means with standard
+// Drag and lift by the conventions of docs/conventions.md, and block-averaged means with standard
 // errors, shared by both solvers.
 #pragma once
 
@@ -7,7 +7,7 @@
 
 namespace grainlift {
 
-/// Drag D = -F . V/|V| and lift L = F . (z x V/|V|) (targets.md). Forces per unit length.
+/// Drag D = -F . V/|V| and lift L = F . (z x V/|V|) (docs/conventions.md). Forces per unit length.
 struct DragLift {
   double drag = 0, lift = 0;
 };

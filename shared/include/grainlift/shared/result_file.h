@@ -8,7 +8,8 @@
 
 namespace grainlift {
 
-inline constexpr int schema_version = 1;
+/// 2: the /derived and /diagnostics groups (files of version 1 are read without them).
+inline constexpr int schema_version = 2;
 
 /// @brief Write @p result to @p path atomically (temporary name, then rename).
 /// Optional blocks that are empty in @p result are absent from the file.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,7 +48,7 @@ struct ForceSeries {
   std::vector<double> contacts;   ///< count; empty when the solver has no contacts (FE)
 };
 
-/// Mean drag, lift and torque with standard errors (targets.md conventions).
+/// Mean drag, lift and torque with standard errors (docs/conventions.md).
 struct MeanForces {
   double drag = 0, lift = 0, torque = 0;        ///< N/m, N/m, N
   std::optional<double> drag_stderr, lift_stderr, torque_stderr;  ///< block-average standard errors
@@ -96,6 +97,16 @@ struct FieldGrid {
   std::optional<std::vector<double>> granular_temperature;    ///< m^2/s^2
 };
 
+/// Solver diagnostics (/diagnostics): how the run went, as typed values a script reads by name
+/// (docs/schema.md lists every name each solver writes), never parsed out of meta.notes.
+struct Diagnostics {
+  std::map<std::string, long long> counts;  ///< int64 attributes (iterations, cells, steps)
+  std::map<std::string, double> values;     ///< float64 attributes (residuals, shares, seconds)
+  std::map<std::string, std::string> texts; ///< string attributes (e.g. the linear solver)
+  std::map<std::string, std::vector<double>> series;  ///< float64 datasets (residual history)
+  bool empty() const { return counts.empty() && values.empty() && texts.empty() && series.empty(); }
+};
+
 /// Everything one solver writes.
 struct RunResult {
   RunMetadata meta;
@@ -106,6 +117,7 @@ struct RunResult {
   std::optional<SurfaceHistogram> histogram;
   std::optional<FieldGrid> fields;
   std::optional<LidSeries> lid;
+  Diagnostics diagnostics;
 };
 
 }  // namespace grainlift

@@ -3,7 +3,7 @@
 //     theta_m = (m + 1/2) 2 pi / M, f(theta_m) = sum_i sqrt(2 pi)/(M s) exp(-(theta_i -
 //     theta_m)^2 / (2 s^2)) f_i, sigma = f / (D pi / M) per unit length, averaged over frames.
 //   Histogram: Kumar, Dhiman & Reddy 2019, Fig. 6: bins of equal width (pi/12 for 24 bins).
-// Angles are measured from the direction of V, counter-clockwise (targets.md).
+// Angles are measured from the direction of V, counter-clockwise (docs/conventions.md).
 #pragma once
 
 #include <array>

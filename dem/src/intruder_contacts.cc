@@ -1,0 +1,78 @@
+// Contacts of the grains with the intruder (stage 2 of the step, serial, fixed order): the
+// intruder's motion is prescribed, its mass infinite; the force and torque on it are summed here.
+#include <cmath>
+
+#include "grainlift/dem/contact_law.h"
+#include "grainlift/dem/dem_system.h"
+
+namespace grainlift::dem {
+
+void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
+  const double h = 0.5 * spring_dt;
+  ifx_ = ify_ = itq_ = 0;
+  intruder_touching_ = 0;
+  if (!intruder_.present) return;
+  const PeriodicBox box = opt_.box;
+  const LawCoefficients law = law_;
+  const double* x = p_.x.data();
+  const double* y = p_.y.data();
+  const double* r = p_.r.data();
+  const double* vx = p_.vx.data();
+  const double* vy = p_.vy.data();
+  const double* w = p_.w.data();
+  const double* ax = p_.ax.data();
+  const double* ay = p_.ay.data();
+  const double* al = p_.alpha.data();
+  const double* inv_m = p_.inv_m.data();
+  const Intruder& in = intruder_;
+  const double t_half = time_ - in.t0 + h;
+  const double t_full = time_ - in.t0 + spring_dt;
+  const double wh_in = in.omega(t_half), wp_in = in.omega(t_full);
+  const double big_r = in.r;
+  for (std::size_t c = 0; c < ic_.grain.size(); ++c) {
+    const int g = ic_.grain[c];
+    double dx = x[g] - in.x, dy = y[g] - in.y;
+    box.min_image(dx, dy);
+    const double rs = r[g] + big_r;
+    const double d2 = dx * dx + dy * dy;
+    if (d2 >= rs * rs) {
+      ic_.sx[c] = ic_.sy[c] = 0;
+      ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = 0;
+      ic_.touching[c] = ic_.slipping[c] = 0;
+      continue;
+    }
+    const double dist = std::sqrt(d2);
+    ContactKinematics kin;
+    kin.nx = dx / dist;
+    kin.ny = dy / dist;
+    kin.delta = rs - dist;
+    kin.r_eff = r[g] * big_r / rs;
+    kin.m_eff = 1.0 / inv_m[g];  // the intruder has infinite mass
+    kin.mu = mu_intruder_;
+    // predicted velocities at t+dt, then the half-step velocities (the intruder's exact)
+    contact_point_motion(kin.nx, kin.ny, r[g], big_r,
+                         {vx[g] + h * ax[g], vy[g] + h * ay[g], w[g] + h * al[g]},
+                         {in.vx, in.vy, wp_in}, {vx[g], vy[g], w[g]}, {in.vx, in.vy, wh_in},
+                         spring_dt, kin);
+    const double tx = -kin.ny, ty = kin.nx;
+    ContactForce f;
+    contact_force(law, kin, ic_.sx[c], ic_.sy[c], f);
+    ic_.fx[c] = f.fx;
+    ic_.fy[c] = f.fy;
+    ic_.fn[c] = f.fn;
+    ic_.ft[c] = f.ftx * tx + f.fty * ty;
+    ic_.nx[c] = kin.nx;
+    ic_.ny[c] = kin.ny;
+    ic_.touching[c] = 1;
+    ic_.slipping[c] = f.slipping ? 1 : 0;
+    ifx_ -= f.fx;
+    ify_ -= f.fy;
+    itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
+    ++intruder_touching_;
+    const double ov = kin.delta / (2.0 * r[g]);
+    if (ov > max_ov) max_ov = ov;
+  }
+}
+
+
+}  // namespace grainlift::dem
