@@ -168,31 +168,33 @@ double DemSystem::kinetic_energy() const {
   return e;
 }
 
-double DemSystem::normal_elastic_energy() const {
-  // A_n = k sqrt(delta) of F_n = A_n delta
-  auto spring = [this](double r_eff, double delta) {
-    return law_.hertz_stiffness(r_eff) * std::sqrt(delta);
-  };
-  double e = 0;
+template <class F>
+void DemSystem::for_each_gap(F f) const {
   for (int i = 0; i < n_grains_; ++i) {
     for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
       const int j = nl_.partner[k];
       double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
       opt_.box.min_image(dx, dy);
       const double rs = p_.r[i] + p_.r[j];
-      const double delta = rs - std::sqrt(dx * dx + dy * dy);
-      if (delta > 0) e += 0.4 * spring(p_.r[i] * p_.r[j] / rs, delta) * delta * delta;
+      f(rs - std::sqrt(dx * dx + dy * dy), p_.r[i], p_.r[j], false);
     }
   }
-  if (intruder_.present) {
-    for (int g : ic_.grain) {
-      double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
-      opt_.box.min_image(dx, dy);
-      const double rs = p_.r[g] + intruder_.r;
-      const double delta = rs - std::sqrt(dx * dx + dy * dy);
-      if (delta > 0) e += 0.4 * spring(p_.r[g] * intruder_.r / rs, delta) * delta * delta;
-    }
+  if (!intruder_.present) return;
+  for (int g : ic_.grain) {
+    double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
+    opt_.box.min_image(dx, dy);
+    const double rs = p_.r[g] + intruder_.r;
+    f(rs - std::sqrt(dx * dx + dy * dy), p_.r[g], intruder_.r, true);
   }
+}
+
+double DemSystem::normal_elastic_energy() const {
+  // (2/5) A_n delta^2 with A_n = k sqrt(delta) of F_n = A_n delta
+  double e = 0;
+  for_each_gap([&](double delta, double ri, double rj, bool) {
+    if (delta > 0)
+      e += 0.4 * law_.hertz_stiffness(ri * rj / (ri + rj)) * std::sqrt(delta) * delta * delta;
+  });
   return e;
 }
 
@@ -211,23 +213,10 @@ void DemSystem::prepare() {
 
 double DemSystem::current_max_overlap_fraction() const {
   double worst = 0;
-  for (int i = 0; i < n_grains_; ++i) {
-    for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
-      const int j = nl_.partner[k];
-      double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
-      opt_.box.min_image(dx, dy);
-      const double delta = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy);
-      worst = std::max(worst, delta / (2.0 * std::min(p_.r[i], p_.r[j])));
-    }
-  }
-  if (intruder_.present) {
-    for (int g : ic_.grain) {
-      double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
-      opt_.box.min_image(dx, dy);
-      const double delta = p_.r[g] + intruder_.r - std::sqrt(dx * dx + dy * dy);
-      worst = std::max(worst, delta / (2.0 * p_.r[g]));
-    }
-  }
+  for_each_gap([&](double delta, double ri, double rj, bool intruder) {
+    // against the grain's diameter for the intruder, the smaller one for a pair
+    worst = std::max(worst, delta / (2.0 * (intruder ? ri : std::min(ri, rj))));
+  });
   return worst;
 }
 

@@ -14,16 +14,7 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
   if (!intruder_.present) return;
   const PeriodicBox box = opt_.box;
   const LawCoefficients law = law_;
-  const double* x = p_.x.data();
-  const double* y = p_.y.data();
-  const double* r = p_.r.data();
-  const double* vx = p_.vx.data();
-  const double* vy = p_.vy.data();
-  const double* w = p_.w.data();
-  const double* ax = p_.ax.data();
-  const double* ay = p_.ay.data();
-  const double* al = p_.alpha.data();
-  const double* inv_m = p_.inv_m.data();
+  const ParticleArrays& p = p_;
   const Intruder& in = intruder_;
   const double t_half = time_ - in.t0 + h;
   const double t_full = time_ - in.t0 + spring_dt;
@@ -31,9 +22,9 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
   const double big_r = in.r;
   for (std::size_t c = 0; c < ic_.grain.size(); ++c) {
     const int g = ic_.grain[c];
-    double dx = x[g] - in.x, dy = y[g] - in.y;
+    double dx = p.x[g] - in.x, dy = p.y[g] - in.y;
     box.min_image(dx, dy);
-    const double rs = r[g] + big_r;
+    const double rs = p.r[g] + big_r;
     const double d2 = dx * dx + dy * dy;
     if (d2 >= rs * rs) {
       ic_.sx[c] = ic_.sy[c] = 0;
@@ -46,13 +37,13 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
     kin.nx = dx / dist;
     kin.ny = dy / dist;
     kin.delta = rs - dist;
-    kin.r_eff = r[g] * big_r / rs;
-    kin.m_eff = 1.0 / inv_m[g];  // the intruder has infinite mass
+    kin.r_eff = p.r[g] * big_r / rs;
+    kin.m_eff = 1.0 / p.inv_m[g];  // the intruder has infinite mass
     kin.mu = mu_intruder_;
     // predicted velocities at t+dt, then the half-step velocities (the intruder's exact)
-    contact_point_motion(kin.nx, kin.ny, r[g], big_r,
-                         {vx[g] + h * ax[g], vy[g] + h * ay[g], w[g] + h * al[g]},
-                         {in.vx, in.vy, wp_in}, {vx[g], vy[g], w[g]}, {in.vx, in.vy, wh_in},
+    contact_point_motion(kin.nx, kin.ny, p.r[g], big_r,
+                         {p.vx[g] + h * p.ax[g], p.vy[g] + h * p.ay[g], p.w[g] + h * p.alpha[g]},
+                         {in.vx, in.vy, wp_in}, {p.vx[g], p.vy[g], p.w[g]}, {in.vx, in.vy, wh_in},
                          spring_dt, kin);
     const double tx = -kin.ny, ty = kin.nx;
     ContactForce f;
@@ -69,10 +60,9 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
     ify_ -= f.fy;
     itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
     ++intruder_touching_;
-    const double ov = kin.delta / (2.0 * r[g]);
+    const double ov = kin.delta / (2.0 * p.r[g]);
     if (ov > max_ov) max_ov = ov;
   }
 }
-
 
 }  // namespace grainlift::dem

@@ -163,6 +163,10 @@ class DemSystem {
 
  private:
   void build_lists();
+  /// Calls f(delta, r_i, r_j, intruder) for every listed pair and every intruder candidate
+  /// (r_j = R, intruder true), delta = r_i + r_j - |x_i - x_j| of the current positions (any sign).
+  template <class F>
+  void for_each_gap(F f) const;
   /// Pair forces of the rows of one chunk (pass 1: distance checks, pass 2: contact law).
   void chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check);
   /// The intruder's own contacts (serial, fixed order).
