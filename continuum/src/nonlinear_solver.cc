@@ -105,6 +105,7 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
     solution_ = trial;
     r = rt;
     (newton ? report_.newton_steps : report_.picard_steps) += 1;
+    report_.residual_history.push_back(r / r_ref);
     {
       std::ostringstream os;
       os << "continuum: " << (newton ? "newton" : "picard") << " step " << it + 1
