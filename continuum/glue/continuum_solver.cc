@@ -157,6 +157,8 @@ SolverEntry solver_entry() {
       out = solve_flow(cfg, [&](const std::string& line) { progress.message(line); });
     } catch (const ConfigError& e) {
       throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
+    } catch (const SolverError& e) {  // an error in the solve, not a non-convergence: exit 1
+      throw RunError(fmt::format("{} (an error, not a non-convergence)", e.what()));
     }
     if (!out.converged)
       throw RunError(fmt::format("the continuum solve did not converge: {}", out.message));

@@ -94,6 +94,9 @@ struct NonlinearReport {
   int picard_steps = 0, newton_steps = 0, linear_solves = 0;
   long krylov_iterations = 0;  ///< FGMRES iterations summed over the linear solves (amg only)
   double initial_residual = 0, final_residual = 0;
+  /// |R_k| / |R_0| after each nonlinear step, over all calls of solve_nonlinear() in order
+  /// (|R_0| the residual of the initial guess of the first call)
+  std::vector<double> residual_history;
   bool converged = false;
   std::string message;
 };

@@ -292,3 +292,18 @@ TEST(FemMpi, FailureOnOneRankEndsEveryRank) {
             std::string::npos);
   EXPECT_FALSE(fs::exists(out_dir / "fem.h5"));
 }
+
+// An exception in the solve on one process (the test hook on rank 0) is a failed run with its
+// message, exit 1, not a non-convergence.
+TEST(FemMpi, ExceptionOnOneProcessIsAnErrorNotANonConvergence) {
+  const TempDir dir("exception");
+  std::string out;
+  const int rc = run_case(dir, " --quiet --set continuum.refinement=0", 1, "out", out, "run",
+                          "GRAINLIFT_TEST_FAIL_ON_RANK=0 ");
+  std::printf("%s\n", out.c_str());
+  EXPECT_EQ(rc, 1);
+  EXPECT_NE(out.find("run failed: continuum solver failed: GRAINLIFT_TEST_FAIL_ON_RANK=0"),
+            std::string::npos);
+  EXPECT_EQ(out.find("did not converge"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir.path / "out" / "fem.h5"));
+}

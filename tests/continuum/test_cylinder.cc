@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "grainlift/continuum/errors.h"
@@ -43,6 +44,49 @@ TEST(Cylinder, NoGravityNoSpinHasNoLift) {
   ASSERT_EQ(out.sigma_n.size(), 5u);
   EXPECT_GT(out.sigma_n[0], 0);
   EXPECT_NEAR(out.sigma_n[2], out.sigma_n[3], 1e-6 * std::abs(out.sigma_n[0]));
+}
+
+// The typed residual history: one entry |R_k|/|R_0| per nonlinear step, labelled with its
+// continuation stage (0, 1, ... in order); the last entry is the final relative residual,
+// within the nonlinear tolerance.
+TEST(Cylinder, ResidualHistoryHasOneEntryPerNonlinearStep) {
+  ContinuumConfig c = coarse_case();
+  c.refinement = 0;
+  const ContinuumOutput out = solve_flow(c);
+  ASSERT_TRUE(out.converged) << out.message;
+  ASSERT_EQ(out.residual_history.size(), static_cast<std::size_t>(out.nonlinear_iterations));
+  ASSERT_EQ(out.residual_stage.size(), out.residual_history.size());
+  ASSERT_FALSE(out.residual_history.empty());
+  EXPECT_EQ(out.residual_stage.front(), 0);
+  for (std::size_t k = 1; k < out.residual_stage.size(); ++k)
+    EXPECT_LE(out.residual_stage[k - 1], out.residual_stage[k]) << "entry " << k;
+  EXPECT_GT(out.residual_stage.back(), 0);  // the continuation has several stages here
+  EXPECT_EQ(out.residual_history.back(), out.final_residual);
+  EXPECT_LE(out.residual_history.back(), c.nonlinear_tolerance);
+}
+
+// An exception inside the solve is an error with its message (SolverError), not a
+// non-convergence: the test hook GRAINLIFT_TEST_FAIL_ON_RANK=0 makes rank 0 (this process)
+// throw just before the nonlinear solve. A solve that does not converge is still no exception:
+// converged = false with a message.
+TEST(Cylinder, ExceptionIsASolverErrorNotANonConvergence) {
+  ContinuumConfig c = coarse_case();
+  c.refinement = 0;
+  setenv("GRAINLIFT_TEST_FAIL_ON_RANK", "0", 1);
+  try {
+    solve_flow(c);
+    ADD_FAILURE() << "the injected failure was not thrown";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("continuum solver failed: GRAINLIFT_TEST_FAIL_ON_RANK=0"),
+              std::string::npos)
+        << e.what();
+  }
+  unsetenv("GRAINLIFT_TEST_FAIL_ON_RANK");
+  c.max_nonlinear_iterations = 1;
+  ContinuumOutput out;
+  EXPECT_NO_THROW(out = solve_flow(c));
+  EXPECT_FALSE(out.converged);
+  EXPECT_NE(out.message.find("no convergence"), std::string::npos) << out.message;
 }
 
 // Out-of-range configuration values are reported as ConfigError, never as a crash.

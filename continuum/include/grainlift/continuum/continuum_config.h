@@ -116,6 +116,12 @@ struct ContinuumOutput {
   /// depends on the mesh (docs/continuum-model.md)
   double sheared_share = 0, ill_posed_share = 0;
   double force_fx_surface = 0, force_fy_surface = 0, torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
+  /// |R_k| / |R_0| after each nonlinear step, all continuation stages and adaptive cycles
+  /// concatenated in order (|R_0| the residual of the initial guess)
+  std::vector<double> residual_history;
+  /// the continuation stage (0, 1, 2, ... in the order they ran, counting the retries of split
+  /// stages and the stages of each adaptive cycle) of each entry of residual_history
+  std::vector<int> residual_stage;
   std::string message;                    ///< why it failed when !converged
 };
 

@@ -17,8 +17,12 @@ namespace grainlift::continuum {
 /// @param config  case description (SI units, see continuum_config.h)
 /// @param log     optional sink for one-line progress messages (nonlinear iterations etc.)
 /// @return forces, surface stresses, sampled fields and convergence information. A run that
-///         does not converge returns converged = false and a message; it never aborts.
+///         does not converge returns converged = false and a message (not an exception).
 /// @throws ConfigError when a configuration value is out of range.
+/// @throws SolverError when the solve fails with an exception (a bug, a failed factorisation,
+///         memory): an error, not a non-convergence. On several MPI ranks it is thrown only
+///         when every rank failed together; a failure of one rank alone ends all ranks
+///         (MpiSession::all_ranks_failed).
 ContinuumOutput solve_flow(const ContinuumConfig& config,
                            const std::function<void(const std::string&)>& log = {});
 

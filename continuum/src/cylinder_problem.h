@@ -1,0 +1,93 @@
+// Internal: the cylinder problem (geometry, boundary conditions, continuation, adaptive
+// refinement, outputs) on top of the FlowProblem engine; solve_flow() runs it. Includes
+// deal.II: never include it from a public header.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "flow_problem.h"
+#include "grainlift/continuum/continuum_config.h"
+#include "grainlift/continuum/mu_i_rheology.h"
+#include "intruder_mesh.h"
+
+namespace grainlift::continuum::internal {
+
+/// @brief Steady mu(I) flow around a translating, spinning cylinder in the intruder frame, in
+/// the shape of the deal.II tutorials (step-57): run() makes the mesh, sets up the problem,
+/// solves it through a continuation in the regularisation, refines adaptively, applies the
+/// linearised gravity correction, post-processes (forces, surface stresses, fields) and
+/// writes the VTU output. Conventions: docs/continuum-model.md (theta from V,
+/// counter-clockwise). The configuration must have passed validate_config().
+class CylinderProblem {
+ public:
+  /// @param config  the case (SI units); must outlive the object
+  /// @param log     optional sink for one-line progress messages
+  CylinderProblem(const ContinuumConfig& config, std::function<void(const std::string&)> log);
+  ~CylinderProblem();
+
+  /// @brief Solve and post-process. Collective on several MPI ranks.
+  /// @return the outputs; converged = false with a message when the nonlinear solve did not
+  ///         converge. Exceptions (failures that are not a non-convergence) propagate.
+  ContinuumOutput run();
+
+ private:
+  /// One solve of the continuation: the regularisation delta (1/s) of an intermediate stage,
+  /// or the requested rheology and inertia (final).
+  struct Stage {
+    double delta;
+    bool final;
+  };
+
+  void make_mesh();
+  /// The problem with gravity @p g_used: body force rho g, far field at P0 + rho g.x.
+  ProblemSetup make_setup(const Vec2& g_used) const;
+  void setup_system();
+  void schedule_continuation();
+  void solve_with_continuation();
+  void refine_mesh(int cycle);
+  void schedule_after_refinement();
+  void correct_for_gravity();
+  void report_convergence();
+  void check_well_posedness();
+  void compute_boundary_outputs();
+  /// The reaction (fx, fy, torque), the surface integral (fx, fy, torque), then sigma_n and
+  /// sigma_t at the surface angles, of the state of @p fp.
+  std::vector<double> boundary_outputs(const FlowProblem& fp) const;
+  void sample_fields();
+  void output_results() const;
+  /// The problem whose state is post-processed: the gravity-corrected one when there is one.
+  const FlowProblem& post() const { return corrected_ ? *corrected_ : *problem_; }
+  void say(const std::string& s) const;
+
+  const ContinuumConfig& config_;
+  std::function<void(const std::string&)> log_;
+  // the case in the intruder frame
+  double R_, W_, H_;
+  Vec2 V_, g_;
+  double omega_, rho_, P0_, speed_, vref_;
+  bool linearised_;  ///< linearised gravity: the nonlinear solve is the base state without it
+  MuIRheology rheology_;
+
+  std::unique_ptr<IntruderMesh> mesh_;  ///< declared before the problems, which use its mesh
+  ProblemSetup setup_;
+  std::unique_ptr<FlowProblem> problem_;
+
+  // continuation (see schedule_continuation())
+  std::vector<double> schedule_;  ///< the intermediate deltas
+  std::deque<Stage> todo_;
+  int splits_ = 0, stage_number_ = 0;
+  double done_delta_ = -1;  ///< delta of the last converged stage; < 0: none yet
+  std::vector<std::unique_ptr<MuIRheology>> stage_rheology_;  ///< outlive the solves
+
+  // linearised gravity: the problem with gravity and the first-order correction
+  std::unique_ptr<FlowProblem> corrected_;
+  VectorType du_;
+
+  ContinuumOutput out_;
+};
+
+}  // namespace grainlift::continuum::internal

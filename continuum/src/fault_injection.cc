@@ -1,0 +1,17 @@
+#include "fault_injection.h"
+
+#include <cstdlib>
+#include <stdexcept>
+
+#include "grainlift/continuum/mpi_session.h"
+
+namespace grainlift::continuum::internal {
+
+void fail_here_if_requested(const std::string& where) {
+  if (const char* fail_on = std::getenv("GRAINLIFT_TEST_FAIL_ON_RANK");
+      fail_on && std::string(fail_on) == std::to_string(MpiSession::rank()))
+    throw std::runtime_error("GRAINLIFT_TEST_FAIL_ON_RANK=" + std::string(fail_on) +
+                             ": test failure " + where);
+}
+
+}  // namespace grainlift::continuum::internal

@@ -1,0 +1,52 @@
+// Internal: the mesh of the cylinder problem (IntruderMesh). Includes deal.II: never include
+// it from a public header.
+#pragma once
+
+#include <deal.II/grid/tria.h>
+
+#include <cmath>
+#include <memory>
+
+#include "flow_problem.h"
+
+namespace grainlift::continuum::internal {
+
+/// Boundary ids of IntruderMesh.
+constexpr dealii::types::boundary_id kLeft = 0, kRight = 1, kBottom = 2, kTop = 3, kHole = 4;
+
+/// Box [-W, W] x [-H, H] with a hole of radius R at the origin. A square block of half-size
+/// b = 2R around the hole (8 cells, polar manifold on the hole, transfinite interpolation inside)
+/// is merged into a tensor grid whose cells grow geometrically (ratio 1.4) away from the block.
+/// Boundary ids: 0 x = -W, 1 x = W, 2 y = -H, 3 y = H, 4 the hole (kLeft ... kHole). After
+/// @p refinement global refinements the block is refined once more (the mesh is finest at the
+/// intruder).
+///
+/// One MPI rank: a serial Triangulation. Several: a parallel::distributed::Triangulation (p4est)
+/// made from the vertices and cells of the same coarse mesh; the ids and the manifolds are then
+/// set on the distributed mesh itself, whose coarse mesh every rank holds whole, so the
+/// transfinite interpolation is initialised on exactly the serial coarse cells. (Copying the
+/// decorated serial mesh with copy_triangulation instead made TransfiniteInterpolationManifold::
+/// initialize() throw ExcTransformationFailed in an earlier attempt.) The refinement is the
+/// same on both; a rank flags only its own cells. The serial mesh limits the level jump to one
+/// across vertices too (limit_level_difference_at_vertices), as p4est's 2:1 balance does: the
+/// adaptive cycles then refine the same cells on one and on N ranks (with faces only, a cell
+/// touching a block corner two levels finer would stay coarse on one process and be refined by
+/// p4est). Uniform meshes never have such a jump: the rule changes nothing there.
+class IntruderMesh {
+ public:
+  /// @param R intruder radius (m); @param W, H half-width and half-height of the box (m);
+  /// @param refinement number of global refinements (then the block around the hole once more)
+  IntruderMesh(double R, double W, double H, int refinement);
+  dealii::Triangulation<2>& tria() { return *tria_; }
+
+ private:
+  bool in_block(const Point2& x) const { return std::abs(x[0]) < b_ && std::abs(x[1]) < b_; }
+  void make_coarse(dealii::Triangulation<2>& tria) const;
+  /// Boundary and manifold ids, the polar and transfinite-interpolation manifolds.
+  void decorate(dealii::Triangulation<2>& tria) const;
+
+  double R_, W_, H_, b_ = 0;
+  std::unique_ptr<dealii::Triangulation<2>> tria_;
+};
+
+}  // namespace grainlift::continuum::internal

@@ -1,0 +1,125 @@
+// FlowProblem's set-up: degrees of freedom (numbering, blocks), constraints (hanging nodes,
+// periodicity, no normal flux, Dirichlet values), sparsity patterns and matrices, and the
+// initial guess.
+#include <deal.II/base/function.h>
+#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/block_sparsity_pattern.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include "flow_problem.h"
+#include "quadrature_rheology.h"
+
+namespace grainlift::continuum::internal {
+
+using namespace dealii;
+
+namespace {
+/// (u, p) as a deal.II Function with 3 components.
+class VelocityPressure : public Function<dim> {
+ public:
+  VelocityPressure(VectorField u, ScalarField p) : Function<dim>(dim + 1), u_(std::move(u)), p_(std::move(p)) {}
+  double value(const Point<dim>& x, const unsigned int c) const override {
+    if (c < dim) return u_ ? u_(x)[c] : 0.0;
+    return p_ ? p_(x) : 0.0;
+  }
+  void vector_value(const Point<dim>& x, Vector<double>& v) const override {
+    const Vec2 u = u_ ? u_(x) : Vec2();
+    v(0) = u[0]; v(1) = u[1];
+    v(2) = p_ ? p_(x) : 0.0;
+  }
+
+ private:
+  VectorField u_;
+  ScalarField p_;
+};
+
+}  // namespace
+
+void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneous) const {
+  c.clear();
+  c.reinit(DoFTools::extract_locally_relevant_dofs(dof_handler_));
+  DoFTools::make_hanging_node_constraints(dof_handler_, c);
+  for (const auto& [b1, b2] : setup_.bc.periodic_x)
+    DoFTools::make_periodicity_constraints(dof_handler_, b1, b2, 0, c);
+  if (setup_.bc.friction)
+    VectorTools::compute_no_normal_flux_constraints(dof_handler_, 0, {setup_.bc.friction->id}, c,
+                                                    mapping_);
+  for (const auto& [id, f] : setup_.bc.dirichlet) {
+    if (homogeneous)
+      VectorTools::interpolate_boundary_values(mapping_, dof_handler_, id,
+                                               Functions::ZeroFunction<dim>(dim + 1), c,
+                                               fe_.component_mask(kVelocity));
+    else
+      VectorTools::interpolate_boundary_values(mapping_, dof_handler_, id,
+                                               VelocityPressure(f, {}), c,
+                                               fe_.component_mask(kVelocity));
+  }
+  if (setup_.bc.pin_pressure) {
+    const types::global_dof_index first_p = n_u_;  // the first pressure dof
+    if (c.can_store_line(first_p) && !c.is_constrained(first_p)) {
+      c.add_line(first_p);
+      c.set_inhomogeneity(first_p, 0.0);
+    }
+  }
+  c.close();
+}
+
+void FlowProblem::setup_system() {
+  // manifold evaluations (transfinite interpolation) are costly: compute the Q2 mapping once
+  mapping_.initialize(MappingQ<dim>(2), tria_);
+  dof_handler_.distribute_dofs(fe_);
+  const bool iterative = setup_.linear_solver == LinearSolver::amg;
+  const bool distributed_direct = !iterative && n_ranks() > 1;
+  if (iterative || distributed_direct) {
+    // two blocks, velocity then pressure; inside the velocity block the two components of a
+    // node stay next to each other (the cell-wise numbering), which suits ML's aggregation
+    DoFRenumbering::component_wise(dof_handler_, std::vector<unsigned int>{0, 0, 1});
+  } else {
+    DoFRenumbering::Cuthill_McKee(dof_handler_);
+    DoFRenumbering::component_wise(dof_handler_);  // u_x, then u_y, then p
+  }
+  const auto counts = DoFTools::count_dofs_per_fe_component(dof_handler_);
+  n_u_ = counts[0] + counts[1];
+  const types::global_dof_index n = dof_handler_.n_dofs();
+  const IndexSet owned = dof_handler_.locally_owned_dofs();
+  const IndexSet relevant = DoFTools::extract_locally_relevant_dofs(dof_handler_);
+  owned_ = {owned.get_view(0, n_u_), owned.get_view(n_u_, n)};
+  relevant_ = {relevant.get_view(0, n_u_), relevant.get_view(n_u_, n)};
+  make_constraints(nonzero_constraints_, false);
+  make_constraints(zero_constraints_, true);
+  TrilinosWrappers::BlockSparsityPattern sp(owned_, owned_, relevant_, comm_);
+  DoFTools::make_sparsity_pattern(dof_handler_, sp, zero_constraints_, false);
+  sp.compress();
+  system_matrix_.reinit(sp);
+  if (distributed_direct) {
+    // MUMPS (through Amesos) takes one matrix: the blocks are copied into it for each solve
+    TrilinosWrappers::SparsityPattern full(owned, owned, relevant, comm_);
+    DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
+    full.compress();
+    direct_distributed_.reinit(full);
+  } else if (!iterative) {
+    DynamicSparsityPattern dsp(n);
+    DoFTools::make_sparsity_pattern(dof_handler_, dsp, zero_constraints_, false);
+    direct_sparsity_.copy_from(dsp);
+    direct_matrix_.reinit(direct_sparsity_);
+  } else {
+    if (setup_.schur_approximation == SchurApproximation::viscosity_mass) schur_mass_.reinit(sp);
+    DoFTools::extract_constant_modes(dof_handler_, fe_.component_mask(kVelocity),
+                                     velocity_constant_modes_);
+  }
+  solution_.reinit(owned_, comm_);
+  cache_.reset();
+  traction_id_ = -1;
+}
+
+void FlowProblem::interpolate_initial_guess() {
+  VectorTools::interpolate(mapping_, dof_handler_,
+                           VelocityPressure(setup_.initial_velocity, setup_.initial_pressure),
+                           solution_);
+  nonzero_constraints_.distribute(solution_);
+}
+}  // namespace grainlift::continuum::internal
