@@ -4,6 +4,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <initializer_list>
+#include <stdexcept>
+#include <utility>
 
 #include "grainlift/continuum/errors.h"
 #include "grainlift/continuum/solver.h"
@@ -13,6 +16,17 @@
 #include "grainlift/shared/surface_stress.h"
 
 namespace grainlift::continuum {
+
+namespace {
+/// The engine's value for a case's choice; the loader accepts only the registry's choices, so
+/// a name missing here is a bug, not bad input.
+template <class T>
+T choice(const std::string& name, std::initializer_list<std::pair<const char*, T>> table) {
+  for (const auto& [key, value] : table)
+    if (name == key) return value;
+  throw std::logic_error("continuum: choice \"" + name + "\" passed the loader but has no engine value");
+}
+}  // namespace
 
 ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir) {
   ContinuumConfig f;
@@ -47,24 +61,28 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   rh.I0 = c.continuum.I0;
   rh.grain_diameter = c.grains.diameter;
   rh.solid_density = c.grains.density;
-  rh.regularisation = c.continuum.regularisation == "barker_gray" ? Regularisation::barker_gray
-                                                                  : Regularisation::chauchat_medale;
+  rh.regularisation = choice<Regularisation>(
+      c.continuum.regularisation, {{"barker_gray", Regularisation::barker_gray},
+                                   {"chauchat_medale", Regularisation::chauchat_medale}});
   rh.delta = c.continuum.delta;
   rh.barker_gray_IN = c.continuum.barker_gray_IN;
   rh.eta_max = c.continuum.eta_max;
   rh.pressure_smoothing = c.continuum.pressure_smoothing * f.ambient_pressure;
-  f.linearised_gravity = c.continuum.gravity_treatment == "linearised";
-  f.wall = c.continuum.wall == "coulomb" ? WallCondition::coulomb : WallCondition::no_slip;
+  f.linearised_gravity = choice<bool>(c.continuum.gravity_treatment,
+                                      {{"full", false}, {"linearised", true}});
+  f.wall = choice<WallCondition>(
+      c.continuum.wall, {{"no_slip", WallCondition::no_slip}, {"coulomb", WallCondition::coulomb}});
   f.wall_friction = c.continuum.wall_friction;
-  f.inertia = c.continuum.inertia == "on"    ? InertiaMode::on
-              : c.continuum.inertia == "off" ? InertiaMode::off
-                                             : InertiaMode::automatic;
+  f.inertia = choice<InertiaMode>(c.continuum.inertia, {{"on", InertiaMode::on},
+                                                        {"off", InertiaMode::off},
+                                                        {"auto", InertiaMode::automatic}});
   f.refinement = c.continuum.refinement;
   f.adaptive_cycles = c.continuum.adaptive_cycles;
   f.nonlinear_tolerance = c.continuum.tolerance;
   f.max_nonlinear_iterations = c.continuum.max_iterations;
   f.picard_iterations = c.continuum.picard_iterations;
-  f.linear_solver = c.continuum.linear_solver == "amg" ? LinearSolver::amg : LinearSolver::direct;
+  f.linear_solver = choice<LinearSolver>(
+      c.continuum.linear_solver, {{"direct", LinearSolver::direct}, {"amg", LinearSolver::amg}});
   // Surface angles: the shared grid, measured from V, turned into lab angles from +x.
   const double heading = std::atan2(c.intruder.velocity[1], c.intruder.velocity[0]);
   for (double t : surface_angle_grid(c.output.angles)) f.surface_theta.push_back(t + heading);
@@ -128,19 +146,32 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   q.domain_ymin = c.intruder.position[1] - cfg.half_height;
   q.domain_ymax = c.intruder.position[1] + cfg.half_height;
   q.pressure_scale = cfg.ambient_pressure;
-  r.meta.notes = fmt::format("cells {}, dofs {}, nonlinear iterations {}, linear iterations {}, "
-                             "krylov iterations {}, linear solver {}, final relative residual {:.3g}, "
-                             "continuation splits {}, sheared share {:.3g}, ill-posed share of "
-                             "it {:.3g}{}",
-                             out.cells, out.dofs, out.nonlinear_iterations,
-                             out.linear_iterations, out.krylov_iterations,
-                             cfg.linear_solver == LinearSolver::amg ? "amg" : "direct",
-                             out.final_residual, out.continuation_splits, out.sheared_share,
-                             out.ill_posed_share,
-                             cfg.linearised_gravity
-                                 ? fmt::format(", linearised gravity correction {:.3g} s",
-                                               out.correction_seconds)
-                                 : std::string());
+  r.meta.notes = fmt::format("{} cells, {} unknowns, {} nonlinear steps, final relative residual "
+                             "{:.3g}, ill-posed share {:.3g} (all in /diagnostics)",
+                             out.cells, out.dofs, out.nonlinear_iterations, out.final_residual,
+                             out.ill_posed_share);
+  Diagnostics& d = r.diagnostics;
+  d.counts = {{"converged", out.converged ? 1 : 0},
+              {"cells", out.cells},
+              {"dofs", out.dofs},
+              {"nonlinear_iterations", out.nonlinear_iterations},
+              {"picard_steps", out.picard_steps},
+              {"newton_steps", out.newton_steps},
+              {"linear_solves", out.linear_iterations},
+              {"krylov_iterations", out.krylov_iterations},
+              {"continuation_splits", out.continuation_splits},
+              {"inertia_used", out.inertia_used ? 1 : 0}};
+  d.values = {{"initial_residual", out.initial_residual},
+              {"final_relative_residual", out.final_residual},
+              {"sheared_share", out.sheared_share},
+              {"ill_posed_share", out.ill_posed_share},
+              {"surface_integral_fx", out.force_fx_surface},
+              {"surface_integral_fy", out.force_fy_surface},
+              {"surface_integral_torque", out.torque_surface}};
+  if (cfg.linearised_gravity) d.values["correction_seconds"] = out.correction_seconds;
+  d.texts = {{"linear_solver", c.continuum.linear_solver}, {"law", c.continuum.regularisation}};
+  d.series["residual_history"] = out.residual_history;
+  d.series["residual_stage"].assign(out.residual_stage.begin(), out.residual_stage.end());
   return r;
 }
 

@@ -130,10 +130,11 @@ void expect_same_solution(const std::string& tag, const grainlift::RunResult& a,
               a.means->torque, b.means->torque);
 }
 
-/// Active cells of the final mesh, from the run's notes ("cells N, dofs ..."); -1 if absent.
+/// Active cells of the final mesh, from /diagnostics; -1 if absent.
 long cells_of(const grainlift::RunResult& r) {
-  const std::size_t p = r.meta.notes.find("cells ");
-  return p == std::string::npos ? -1 : std::atol(r.meta.notes.c_str() + p + 6);
+  const auto& counts = r.diagnostics.counts;
+  const auto it = counts.find("cells");
+  return it == counts.end() ? -1 : static_cast<long>(it->second);
 }
 
 /// Number of occurrences of @p what in @p text.
