@@ -49,8 +49,7 @@ def main(argv):
             slip = h["slip_fraction"][:]
             mu = intruder_friction(f)
             drag = f["means"].attrs["drag"]
-            g = f["geometry"].attrs
-            omega_ratio = g["omega"] * g["intruder_diameter"] / 2 / np.hypot(g["velocity_x"], g["velocity_y"])
+            omega_ratio = f["derived"].attrs["spin_ratio"]
         d0 = drag if d0 is None else d0
         label = label or f"Omega = {omega_ratio:g}"
         with np.errstate(invalid="ignore", divide="ignore"):

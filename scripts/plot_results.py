@@ -61,7 +61,11 @@ def plot_surface(f, solver, out):
     order = np.argsort(deg)
     P = f["geometry"].attrs["pressure_scale"] or 1.0
     sn, st = f["surface/sigma_n"][:] / P, f["surface/sigma_t"][:] / P
-    sym, anti = 0.5 * (sn + sn[::-1]), 0.5 * (sn - sn[::-1])
+    if "derived" in f and "sigma_n_symmetric" in f["derived"]:  # schema 2: split by grainlift
+        sym = f["derived/sigma_n_symmetric"][:] / P
+        anti = f["derived/sigma_n_antisymmetric"][:] / P
+    else:  # schema 1 files: theta_{M-1-m} is the mirror image of theta_m
+        sym, anti = 0.5 * (sn + sn[::-1]), 0.5 * (sn - sn[::-1])
     ncol = 3 if "histogram" in f else 2
     fig, axes = plt.subplots(1, ncol, figsize=(4.5 * ncol, 4))
     ax = axes[0]
