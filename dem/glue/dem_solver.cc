@@ -36,6 +36,16 @@ ContactLaw contact_law_of(const std::string& name) {
   throw std::logic_error("grains.contact.law = \"" + name + "\" passed the loader");
 }
 
+/// Block mean of the samples after the steady-state start, and its standard error where the
+/// blocks give one (left unset for no samples).
+void steady_mean(const std::vector<double>& steady, int blocks, double& mean,
+                 std::optional<double>& stderr_) {
+  if (steady.empty()) return;
+  const BlockMean b = block_mean(steady, std::size_t(blocks));
+  mean = b.mean;
+  if (std::isfinite(b.stderr_)) stderr_ = b.stderr_;
+}
+
 RunResult to_result(const Case& c, const DemOutput& out) {
   RunResult r;
   const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
@@ -136,12 +146,26 @@ RunResult to_result(const Case& c, const DemOutput& out) {
     l.target = c.domain.lid_pressure;
     l.mass = out.lid_mass;
     l.damping = out.lid_damping;
-    if (!steady.empty()) {
-      const BlockMean b = block_mean(steady, std::size_t(c.output.blocks));
-      l.mean = b.mean;
-      if (std::isfinite(b.stderr_)) l.mean_stderr = b.stderr_;
-    }
+    steady_mean(steady, c.output.blocks, l.mean, l.mean_stderr);
     r.lid = std::move(l);
+  }
+
+  if (!out.far_field.empty()) {
+    FarFieldSeries ff;
+    std::vector<double> steady;
+    for (std::size_t i = 0; i < out.far_field.size(); ++i) {
+      const FarFieldSample& s = out.far_field[i];
+      ff.time.push_back(s.time);
+      ff.pressure.push_back(s.pressure);
+      ff.stress_xx.push_back(s.sxx);
+      ff.stress_xy.push_back(s.sxy);
+      ff.stress_yy.push_back(s.syy);
+      if (i >= out.steady_start_index && std::isfinite(s.pressure)) steady.push_back(s.pressure);
+    }
+    ff.exclusion = out.far_field_exclusion;
+    ff.half_height = out.far_field_half_height;
+    steady_mean(steady, c.output.blocks, ff.mean, ff.mean_stderr);
+    r.far_field = std::move(ff);
   }
 
   r.geometry = case_geometry(c);

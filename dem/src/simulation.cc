@@ -8,6 +8,7 @@
 
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
+#include "grainlift/dem/far_field_stress.h"
 #include "grainlift/dem/field_accumulator.h"
 #include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
@@ -126,6 +127,13 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
     out.lid_damping = s.lid()->damping();
   }
   const PressureLid* lid = s.lid();
+  // the far-field stress reads the per-pair forces, kept when fields or a lid need them
+  const bool far_field = c.fields.enabled || lid;
+  const FarFieldRegion region = FarFieldRegion::of(c);
+  if (far_field) {
+    out.far_field_exclusion = region.exclusion;
+    out.far_field_half_height = region.half_height;
+  }
   s.prepare();
   const double ov0 = s.current_max_overlap_fraction();
   if (ov0 > c.max_overlap_fraction) {
@@ -158,6 +166,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
     const double t = s.time();
     if (k % c.sample_every == 0) {
       if (lid) out.lid.push_back({t, lid->state().y, lid->state().pressure});
+      if (far_field) out.far_field.push_back(far_field_stress(s, c, region));
       IntruderSample smp;
       smp.time = t;
       smp.fx = s.intruder_fx();

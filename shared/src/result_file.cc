@@ -167,6 +167,19 @@ void write_body(hid_t file, const RunResult& r) {
     attr_number(g, "mass", l.mass);
     attr_number(g, "damping", l.damping);
   }
+  if (r.far_field) {
+    const FarFieldSeries& ff = *r.far_field;
+    Handle g = make_group(file, "far_field");
+    dataset_doubles(g, "time", ff.time, "s");
+    dataset_doubles(g, "pressure", ff.pressure, "Pa");
+    dataset_doubles(g, "stress_xx", ff.stress_xx, "Pa");
+    dataset_doubles(g, "stress_xy", ff.stress_xy, "Pa");
+    dataset_doubles(g, "stress_yy", ff.stress_yy, "Pa");
+    attr_number(g, "mean", ff.mean);
+    if (ff.mean_stderr) attr_number(g, "mean_stderr", *ff.mean_stderr);
+    attr_number(g, "exclusion", ff.exclusion);
+    attr_number(g, "half_height", ff.half_height);
+  }
   if (r.means) {
     const MeanForces& m = *r.means;
     Handle g = make_group(file, "means");
@@ -388,6 +401,20 @@ RunResult read_body(hid_t file) {
     l.mass = read_attr_double(g, "mass");
     l.damping = read_attr_double(g, "damping");
     r.lid = std::move(l);
+  }
+  if (exists(file, "far_field")) {
+    Handle g(H5Gopen2(file, "far_field", H5P_DEFAULT), H5Gclose);
+    FarFieldSeries ff;
+    ff.time = read_doubles(g, "time");
+    ff.pressure = read_doubles(g, "pressure");
+    ff.stress_xx = read_doubles(g, "stress_xx");
+    ff.stress_xy = read_doubles(g, "stress_xy");
+    ff.stress_yy = read_doubles(g, "stress_yy");
+    ff.mean = read_attr_double(g, "mean");
+    ff.mean_stderr = read_attr_optional(g, "mean_stderr");
+    ff.exclusion = read_attr_double(g, "exclusion");
+    ff.half_height = read_attr_double(g, "half_height");
+    r.far_field = std::move(ff);
   }
   if (exists(file, "diagnostics")) {
     Handle g(H5Gopen2(file, "diagnostics", H5P_DEFAULT), H5Gclose);

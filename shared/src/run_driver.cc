@@ -61,6 +61,10 @@ JsonObject summary_object(const RunResult& r) {
     o.add("lid_pressure_mean", r.lid->mean);
     o.add("lid_pressure_stderr", r.lid->mean_stderr);
   }
+  if (r.far_field) {
+    o.add("far_field_pressure", r.far_field->mean);
+    o.add("far_field_pressure_stderr", r.far_field->mean_stderr);
+  }
   o.add("pressure_scale", r.geometry.pressure_scale);
   o.add("wall_seconds", r.meta.wall_seconds);
   o.add("threads", r.meta.threads);

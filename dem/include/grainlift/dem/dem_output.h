@@ -40,6 +40,14 @@ struct LidSample {
   double pressure = 0;  ///< N/m, force of the grains on the lid / box width
 };
 
+/// The bed's stress away from the intruder at one force-sample time (far_field_stress.h).
+struct FarFieldSample {
+  double time = 0;                 ///< s
+  double pressure = 0;             ///< N/m (2D pressure), -(sxx + syy) / 2
+  double sxx = 0, sxy = 0, syy = 0;  ///< N/m, tension positive
+  double area = 0;                 ///< m^2, the region measured
+};
+
 struct DemOutput {
   std::vector<IntruderSample> samples;
   std::vector<IntruderContact> contacts;  ///< after steady_start_index only
@@ -55,6 +63,9 @@ struct DemOutput {
   int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)
   std::vector<LidSample> lid;             ///< one per force sample; empty without a lid
   double lid_mass = 0, lid_damping = 0;   ///< kg, kg/s: the lid actually used
+  /// one per force sample when the per-pair forces are kept (fields or a lid); else empty
+  std::vector<FarFieldSample> far_field;
+  double far_field_exclusion = 0, far_field_half_height = 0;  ///< m, the region (FarFieldRegion)
 };
 
 }  // namespace grainlift::dem

@@ -68,6 +68,18 @@ struct LidSeries {
   double mass = 0, damping = 0;  ///< kg (per unit depth), kg/s: the lid's equation of motion
 };
 
+/// The DEM bed's own stress away from the intruder against time: contact plus kinetic stress
+/// over a horizontal strip at the intruder's height, outside a disk around it (docs/schema.md).
+struct FarFieldSeries {
+  std::vector<double> time;                           ///< s
+  std::vector<double> pressure;                       ///< Pa (2D reading), -(sxx + syy) / 2
+  std::vector<double> stress_xx, stress_xy, stress_yy;  ///< Pa, tension positive
+  double mean = 0;                     ///< Pa, mean pressure after the steady-state start
+  std::optional<double> mean_stderr;   ///< Pa, its block-average standard error
+  double exclusion = 0;                ///< m, radius of the disk around the intruder left out
+  double half_height = 0;              ///< m, half height of the strip
+};
+
 /// Surface stress on the shared angle grid theta_m = (m + 1/2) 2 pi / M (Guillard eq. A4),
 /// theta measured from the direction of V, counter-clockwise.
 struct SurfaceDistribution {
@@ -117,6 +129,7 @@ struct RunResult {
   std::optional<SurfaceHistogram> histogram;
   std::optional<FieldGrid> fields;
   std::optional<LidSeries> lid;
+  std::optional<FarFieldSeries> far_field;
   Diagnostics diagnostics;
 };
 
