@@ -52,8 +52,11 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   f.ambient_pressure = c.continuum_pressure();
   if (!(f.ambient_pressure > 0))
     throw InputError(fmt::format(
-        "{}: the mu(I) rheology needs a confining pressure: set continuum.ambient_pressure > 0 or "
-        "gravity with the intruder below the top of the bed",
+        "{}: the mu(I) rheology needs a confining pressure, and this case gives none: no lid "
+        "(domain.lid_pressure), no gravity with the intruder below the top of the bed, no "
+        "continuum.ambient_pressure. A DEM bed without them is volume-controlled: its own "
+        "pressure is measured (dem.h5 /far_field), but a continuum comparison needs the same "
+        "pressure on both sides: add a lid or gravity",
         c.source.path));
   auto& rh = f.rheology;
   rh.mu_s = c.continuum.mu_s;
@@ -98,6 +101,16 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
 }
 
 namespace {
+
+/// Where P0 comes from: "lid", "continuum.ambient_pressure" (not a pressure of the DEM bed),
+/// "lithostatic", or a sum of them.
+std::string pressure_source(const Case& c) {
+  std::string s;
+  if (c.domain.lid_pressure > 0) s = "lid";
+  if (c.continuum.ambient_pressure > 0) s = "continuum.ambient_pressure";
+  if (c.lithostatic_pressure() > 0) s += s.empty() ? "lithostatic" : " + lithostatic";
+  return s;
+}
 
 RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOutput& out) {
   RunResult r;
@@ -169,7 +182,9 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
               {"surface_integral_fy", out.force_fy_surface},
               {"surface_integral_torque", out.torque_surface}};
   if (cfg.linearised_gravity) d.values["correction_seconds"] = out.correction_seconds;
-  d.texts = {{"linear_solver", c.continuum.linear_solver}, {"law", c.continuum.regularisation}};
+  d.texts = {{"linear_solver", c.continuum.linear_solver},
+             {"law", c.continuum.regularisation},
+             {"pressure_source", pressure_source(c)}};
   d.series["residual_history"] = out.residual_history;
   d.series["residual_stage"].assign(out.residual_stage.begin(), out.residual_stage.end());
   return r;
@@ -183,6 +198,12 @@ SolverEntry solver_entry() {
   e.description = "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
   e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
     const ContinuumConfig cfg = make_continuum_config(c, opt.out_dir);
+    if (!c.pressure_matched())
+      progress.message(fmt::format(
+          "warning: P0 = {:g} Pa includes continuum.ambient_pressure = {:g} Pa, which the "
+          "DEM bed of this case does not have (only a lid or gravity confine it; it carries its "
+          "own pressure, dem.h5 /far_field): DEM and FEM are not at the same pressure here",
+          cfg.ambient_pressure, c.continuum.ambient_pressure));
     ContinuumOutput out;
     try {
       out = solve_flow(cfg, [&](const std::string& line) { progress.message(line); });

@@ -172,7 +172,7 @@ RunResult to_result(const Case& c, const DemOutput& out) {
   Geometry& q = r.geometry;
   // Pressure scale: the lid pressure plus the lithostatic pressure at the intruder (either may
   // be 0), else the mean drag per unit projected area D / diameter (a measured dynamic pressure).
-  const double stated = c.domain.lid_pressure + c.lithostatic_pressure();
+  const double stated = c.stated_pressure();
   q.pressure_scale =
       stated > 0 ? stated : (r.means ? std::abs(r.means->drag) / c.intruder.diameter : 0.0);
   r.meta.notes = fmt::format(

@@ -113,9 +113,10 @@ std::vector<KeySpec> make_keys() {
   }
   // [continuum]
   k.push_back(real("continuum.ambient_pressure", false, "0.0", 0, 1e9, false, false, "Pa",
-                   "confining pressure at the intruder centre on top of the lithostatic part; "
-                   "stands in for the DEM's volume-controlled confinement (needed without "
-                   "gravity)"));
+                   "continuum only: confining pressure at the intruder centre on top of the "
+                   "lithostatic part, for a scene without a lid (with domain.lid_pressure the "
+                   "lid is P0 of both solvers and this key is refused); the DEM bed does not "
+                   "have this pressure, and the FEM run warns so"));
   k.push_back(real("continuum.mu_s", false, "0.38", 0, 5, false, false, "-",
                    "static friction coefficient of mu(I)"));
   k.push_back(real("continuum.mu_2", false, "0.64", 0, 5, false, false, "-",

@@ -323,6 +323,12 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
                fmt::format("domain.lid_pressure = {} Pa needs the \"top\" wall in domain.walls "
                            "(it becomes the lid) and domain.periodic[1] = false",
                            d.lid_pressure));
+  if (d.lid_pressure > 0 && c.continuum.ambient_pressure > 0)
+    diag.error(where("continuum.ambient_pressure"),
+               fmt::format("continuum.ambient_pressure = {} Pa and domain.lid_pressure = {} Pa: "
+                           "with a lid, the lid is the confining pressure of both solvers; remove "
+                           "continuum.ambient_pressure",
+                           c.continuum.ambient_pressure, d.lid_pressure));
   const auto& in = c.intruder;
   const double R = 0.5 * in.diameter;
   if (in.position[0] < d.x_range[0] || in.position[0] > d.x_range[1] ||

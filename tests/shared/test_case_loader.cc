@@ -156,10 +156,28 @@ TEST(CaseLoader, CrossChecksGeometryAndRun) {
       << e;
 }
 
-// Physics: none; a lid pressure on a case with the top wall is accepted and read in Pa.
+// Physics: none; a lid pressure on a case with the top wall is accepted and read in Pa, and it
+// is the confining pressure of both solvers: the continuum's P0 equals it (to the last bit: a
+// sum with zeros) and the pressures are matched.
 TEST(CaseLoader, LidPressureIsRead) {
   const auto c = grainlift::parse_case(base, "case.toml", {"domain.lid_pressure=1.2066"});
   EXPECT_DOUBLE_EQ(c.domain.lid_pressure, 1.2066);
+  EXPECT_EQ(c.continuum_pressure(), 1.2066);
+  EXPECT_TRUE(c.pressure_matched());
+  // without a lid or gravity the continuum's P0 is only stated, not the DEM bed's
+  const auto u = grainlift::parse_case(base, "case.toml", {"continuum.ambient_pressure=500"});
+  EXPECT_EQ(u.continuum_pressure(), 500.0);
+  EXPECT_FALSE(u.pressure_matched());
+}
+
+// A lid and a continuum ambient pressure together would give the two solvers two pressures:
+// refused, naming the line of the ambient pressure (after the lid override) and the remedy.
+TEST(CaseLoader, LidAndAmbientPressureTogetherAreRefused) {
+  const std::string e = error_of(base + "[continuum]\nambient_pressure = 2.0\n",
+                                 {"domain.lid_pressure=1.0"});
+  EXPECT_TRUE(contains(e, "case.toml:19: continuum.ambient_pressure = 2 Pa and "
+                          "domain.lid_pressure = 1 Pa")) << e;
+  EXPECT_TRUE(contains(e, "remove continuum.ambient_pressure")) << e;
 }
 
 TEST(CaseLoader, InvalidTomlNamesLineAndColumn) {

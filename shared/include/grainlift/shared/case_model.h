@@ -122,9 +122,17 @@ struct Case {
   double spin_ratio() const;
   /// Lithostatic pressure at the intruder centre, rho |g| (depth below the top of the box), Pa.
   double lithostatic_pressure() const;
-  /// Confining pressure the continuum uses at the intruder centre:
-  /// continuum.ambient_pressure + lithostatic_pressure(), Pa.
-  double continuum_pressure() const { return continuum.ambient_pressure + lithostatic_pressure(); }
+  /// The confining pressure at the intruder centre that both solvers see, Pa: the lid's
+  /// (domain.lid_pressure) plus the lithostatic pressure, 0 when the case has neither (a
+  /// volume-controlled DEM bed: its own pressure is measured, /far_field).
+  double stated_pressure() const { return domain.lid_pressure + lithostatic_pressure(); }
+  /// Confining pressure the continuum uses at the intruder centre, Pa: stated_pressure(), or
+  /// continuum.ambient_pressure on top of the lithostatic part for a continuum-only scene
+  /// without a lid (the loader refuses both a lid and an ambient pressure).
+  double continuum_pressure() const { return continuum.ambient_pressure + stated_pressure(); }
+  /// Whether the DEM bed and the continuum are confined by the same pressure: the pressure
+  /// comes from the lid or gravity, not from continuum.ambient_pressure alone.
+  bool pressure_matched() const { return stated_pressure() > 0 && continuum.ambient_pressure == 0; }
 };
 
 }  // namespace grainlift
