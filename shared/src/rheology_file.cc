@@ -175,6 +175,17 @@ double get_number(const toml::table& t, const NumberKey (&keys)[N], const char* 
   return *v;
 }
 
+/// The number of points a fit used: an integer (accepted range as in @p keys).
+template <std::size_t N>
+int get_count(const toml::table& t, const NumberKey (&keys)[N], const std::string& table,
+              const std::string& file) {
+  const double v = get_number(t, keys, "points", table, file);
+  if (!t.get("points")->is_integer())
+    throw InputError(fmt::format("{}: [{}] points = {} is not an integer (accepted {})",
+                                 at(file, t.get("points")), table, v, range_of(keys, "points")));
+  return static_cast<int>(v);
+}
+
 }  // namespace
 
 RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
@@ -203,27 +214,30 @@ void write_rheology_file(const std::string& path, const RheologyFile& d) {
       "# Phi(I) = phi_max - a I, fitted to steady simple-shear points; errors are one sigma.\n\n"
       "[source]\n";
   for (const auto& [key, value] : d.source) s += toml_key(key) + " = " + toml_string(value) + "\n";
+  auto line = [&s](const char* key, double value) {
+    s += fmt::format("{} = {}\n", key, number(value));
+  };
   s += "\n[mu_i]\n";
-  s += "mu_s = " + number(m.mu_s) + "\n";
-  s += "mu_2 = " + number(m.mu_2) + "\n";
-  s += "I0 = " + number(m.I0) + "\n";
-  s += "mu_s_err = " + number(m.mu_s_err) + "\n";
-  s += "mu_2_err = " + number(m.mu_2_err) + "\n";
-  s += "I0_err = " + number(m.I0_err) + "\n";
+  line("mu_s", m.mu_s);
+  line("mu_2", m.mu_2);
+  line("I0", m.I0);
+  line("mu_s_err", m.mu_s_err);
+  line("mu_2_err", m.mu_2_err);
+  line("I0_err", m.I0_err);
   s += "covariance = [  # (mu_s, mu_2, I0)\n";
   for (const auto& row : m.covariance)
     s += fmt::format("  [{}, {}, {}],\n", number(row[0]), number(row[1]), number(row[2]));
   s += "]\n";
-  s += "chi2_per_dof = " + number(m.chi2_per_dof) + "\n";
+  line("chi2_per_dof", m.chi2_per_dof);
   s += fmt::format("points = {}\n", m.points);
-  s += "I_min = " + number(d.I_min) + "\n";
-  s += "I_max = " + number(d.I_max) + "\n";
+  line("I_min", d.I_min);
+  line("I_max", d.I_max);
   s += "\n[phi_i]\n";
-  s += "phi_max = " + number(p.phi_max) + "\n";
-  s += "a = " + number(p.a) + "\n";
-  s += "phi_max_err = " + number(p.phi_max_err) + "\n";
-  s += "a_err = " + number(p.a_err) + "\n";
-  s += "chi2_per_dof = " + number(p.chi2_per_dof) + "\n";
+  line("phi_max", p.phi_max);
+  line("a", p.a);
+  line("phi_max_err", p.phi_max_err);
+  line("a_err", p.a_err);
+  line("chi2_per_dof", p.chi2_per_dof);
   s += fmt::format("points = {}\n", p.points);
   for (const auto& q : d.points)
     s += fmt::format("\n[[point]]\nI = {}\nmu = {}\nmu_stderr = {}\nphi = {}\nphi_stderr = {}\n",
@@ -268,7 +282,7 @@ RheologyFile read_rheology_file(const std::string& path) {
   m.mu_2_err = mu_number("mu_2_err");
   m.I0_err = mu_number("I0_err");
   m.chi2_per_dof = mu_number("chi2_per_dof");
-  m.points = static_cast<int>(mu_number("points"));
+  m.points = get_count(mu, mu_i_keys, "mu_i", path);
   d.I_min = mu_number("I_min");
   d.I_max = mu_number("I_max");
   const toml::array* cov = mu["covariance"].as_array();
@@ -301,7 +315,7 @@ RheologyFile read_rheology_file(const std::string& path) {
   d.phi_i.phi_max_err = phi_number("phi_max_err");
   d.phi_i.a_err = phi_number("a_err");
   d.phi_i.chi2_per_dof = phi_number("chi2_per_dof");
-  d.phi_i.points = static_cast<int>(phi_number("points"));
+  d.phi_i.points = get_count(phi, phi_i_keys, "phi_i", path);
 
   if (const toml::node* points = root.get("point")) {
     const toml::array* arr = points->as_array();

@@ -17,7 +17,8 @@ double jop_mu(double I, double mu_s, double mu_2, double I0) {
 namespace {
 
 /// Refuses points that cannot be weighted: non-finite values, se <= 0, I out of range.
-/// @param min_points, min_distinct_I what the fitted law needs; @param I_positive I > 0 (else I >= 0).
+/// @param y, se the measured value and its standard error; @param min_points, min_distinct_I
+/// what the fitted law needs; @param I_positive I > 0 required (else I >= 0).
 void check_points(const std::vector<ShearPoint>& points, const char* fit, const char* value,
                   double ShearPoint::*y, double ShearPoint::*se, std::size_t min_points,
                   std::size_t min_distinct_I, bool I_positive) {

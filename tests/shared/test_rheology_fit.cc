@@ -278,6 +278,9 @@ TEST(RheologyFile, RefusesCorruptFilesNamingFileAndKey) {
                  {"I0", "> 0"});
   expect_refused("nan.toml", std::regex_replace(text, mu_2_line, "\nmu_2 = nan"),
                  {"mu_2", "finite"});
+  expect_refused("fractional_points.toml",
+                 std::regex_replace(text, std::regex(R"(\npoints = 10)"), "\npoints = 9.5"),
+                 {"points", "integer"});
   expect_refused("not_toml.toml", "this is [not toml\n", {"TOML"});
   expect_refused("no_mu_i.toml", "[phi_i]\nphi_max = 0.8\n", {"[mu_i]"});
   EXPECT_THROW(read_rheology_file((dir / "absent.toml").string()), InputError);
