@@ -185,6 +185,7 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   d.texts = {{"linear_solver", c.continuum.linear_solver},
              {"law", c.continuum.regularisation},
              {"pressure_source", pressure_source(c)}};
+  if (!c.continuum.rheology_file.empty()) d.texts["rheology_file"] = c.continuum.rheology_file;
   d.series["residual_history"] = out.residual_history;
   d.series["residual_stage"].assign(out.residual_stage.begin(), out.residual_stage.end());
   return r;

@@ -122,6 +122,11 @@ std::vector<KeySpec> make_keys() {
   k.push_back(real("continuum.mu_2", false, "0.64", 0, 5, false, false, "-",
                    "limiting friction coefficient of mu(I) (>= mu_s)"));
   k.push_back(real("continuum.I0", false, "0.279", 0, 10, true, false, "-", "inertial number scale"));
+  k.push_back(choice("continuum.rheology_file", "\"\"", {},
+                     "TOML file of a calibrated mu(I) and Phi(I) (docs/schema.md, rheology "
+                     "file; a relative path is taken from the case file's folder): its mu_s, "
+                     "mu_2 and I0 replace the three keys above, which must then be absent; "
+                     "\"\" = use those keys"));
   k.push_back(choice("continuum.regularisation", "\"barker_gray\"",
                      {"chauchat_medale", "barker_gray"}, "viscosity regularisation"));
   k.push_back(real("continuum.delta", false, "1e-3", 0, 1e3, true, false, "1/s",

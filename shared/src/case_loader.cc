@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -11,6 +12,7 @@
 
 #include "grainlift/shared/case_keys.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/rheology_file.h"
 
 namespace grainlift {
 
@@ -364,6 +366,31 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   }
 }
 
+/// The calibrated law of continuum.rheology_file (relative to the case file's folder) in place
+/// of continuum.mu_s, mu_2, I0, which the case must then leave out.
+void apply_rheology_file(const toml::table& root, const std::string& name, Case& c,
+                         Diagnostics& diag) {
+  const std::string key = "continuum.rheology_file";
+  for (const char* law_key : {"continuum.mu_s", "continuum.mu_2", "continuum.I0"})
+    if (root.at_path(law_key))
+      diag.error(diag.where(law_key, root.at_path(law_key).node()),
+                 fmt::format("{} and {} both give mu(I): remove {} (the file's calibrated law "
+                             "is used)",
+                             law_key, key, law_key));
+  if (!diag.empty()) return;
+  std::filesystem::path file(c.continuum.rheology_file);
+  if (file.is_relative()) file = std::filesystem::path(name).parent_path() / file;
+  c.continuum.rheology_file = file.string();
+  try {
+    const RheologyFile law = read_rheology_file(file.string());
+    c.continuum.mu_s = law.mu_i.mu_s;
+    c.continuum.mu_2 = law.mu_i.mu_2;
+    c.continuum.I0 = law.mu_i.I0;
+  } catch (const InputError& e) {
+    diag.error(diag.where(key, root.at_path(key).node()), e.what());
+  }
+}
+
 Case build_case(const toml::table& root) {
   const toml::table r = with_defaults(root);
   Case c;
@@ -418,6 +445,7 @@ Case build_case(const toml::table& root) {
   cn.mu_s = get_real(r, "continuum.mu_s");
   cn.mu_2 = get_real(r, "continuum.mu_2");
   cn.I0 = get_real(r, "continuum.I0");
+  cn.rheology_file = get_text(r, "continuum.rheology_file");
   cn.regularisation = get_text(r, "continuum.regularisation");
   cn.delta = get_real(r, "continuum.delta");
   cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN");
@@ -471,6 +499,8 @@ Case parse_case(const std::string& text, const std::string& name,
 
   Case c = build_case(root);
   cross_checks(root, c, diag);
+  if (!diag.empty()) throw InputError(diag.text());
+  if (!c.continuum.rheology_file.empty()) apply_rheology_file(root, name, c, diag);
   if (!diag.empty()) throw InputError(diag.text());
 
   c.source.path = name;

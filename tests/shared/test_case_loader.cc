@@ -5,10 +5,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
 
 #include "grainlift/shared/case_keys.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/rheology_file.h"
+#include "grainlift/shared/rheology_fit.h"
 
 using namespace grainlift;
 
@@ -248,4 +254,45 @@ TEST(CaseKeys, DocsListEveryKey) {
   const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_TRUE(contains(doc, keys_markdown()))
       << "regenerate the table with `build/bin/grainlift keys --markdown`";
+}
+
+// A case that names a calibrated rheology file (relative to its own folder) gets the file's
+// mu_s, mu_2, I0 exactly, in place of the continuum keys; naming the file and one of those keys
+// too is refused with the key's line; a missing file is refused naming it.
+TEST(CaseLoader, RheologyFileReplacesTheContinuumLaw) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("grainlift_rheology_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::vector<grainlift::ShearPoint> pts;
+  for (int k = 0; k < 8; ++k) {
+    const double I = 1e-3 * std::pow(2.4, k);
+    pts.push_back({I, grainlift::jop_mu(I, 0.26, 0.8, 0.3), 0.005, 0.81 - 0.3 * I, 0.002});
+  }
+  const grainlift::RheologyFile law = grainlift::make_rheology_file(pts, {{"grains", "test"}});
+  grainlift::write_rheology_file((dir / "law.toml").string(), law);
+  const std::string case_path = (dir / "case.toml").string();
+  const grainlift::Case c = grainlift::parse_case(
+      base + "[continuum]\nrheology_file = \"law.toml\"\n", case_path);
+  EXPECT_EQ(c.continuum.mu_s, law.mu_i.mu_s);
+  EXPECT_EQ(c.continuum.mu_2, law.mu_i.mu_2);
+  EXPECT_EQ(c.continuum.I0, law.mu_i.I0);
+  EXPECT_NEAR(c.continuum.mu_s, 0.26, 1e-6);  // the fit of exact points gives the law back
+  EXPECT_EQ(c.continuum.rheology_file, (dir / "law.toml").string());
+  std::string e;
+  try {
+    grainlift::parse_case(base + "[continuum]\nrheology_file = \"law.toml\"\nmu_s = 0.3\n",
+                          case_path);
+  } catch (const grainlift::InputError& x) {
+    e = x.what();
+  }
+  EXPECT_TRUE(contains(e, "case.toml:20: continuum.mu_s and continuum.rheology_file both give "
+                          "mu(I)")) << e;
+  e.clear();
+  try {
+    grainlift::parse_case(base + "[continuum]\nrheology_file = \"missing.toml\"\n", case_path);
+  } catch (const grainlift::InputError& x) {
+    e = x.what();
+  }
+  EXPECT_TRUE(contains(e, "missing.toml")) << e;
+  fs::remove_all(dir);
 }

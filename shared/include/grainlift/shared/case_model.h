@@ -65,7 +65,8 @@ struct DemSection {
 
 struct ContinuumSection {
   double ambient_pressure{};  ///< Pa, P0 at the intruder centre on top of the lithostatic part
-  double mu_s{}, mu_2{}, I0{};
+  double mu_s{}, mu_2{}, I0{};   ///< from rheology_file when it names one
+  std::string rheology_file;     ///< "" or the calibrated law's file, resolved from the case's folder
   std::string regularisation;
   double delta{};          ///< 1/s
   double eta_max{};         ///< Pa s
