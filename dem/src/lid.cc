@@ -61,6 +61,8 @@ LidMove PressureLid::advance(double force_x, double force_y, double dt) {
   state_.x_shift += move.dx;
   state_.pressure = f / width_;
   state_.shear_stress = force_x / width_;
+  state_.impulse_x += force_x * dt;
+  state_.impulse_y += force_y * dt;
   return move;
 }
 

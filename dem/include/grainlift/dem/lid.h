@@ -20,6 +20,9 @@ struct LidState {
   /// the grains drag the lid back, so it is negative)
   double shear_stress = 0;
   double x_shift = 0;   ///< m, x travelled by the lid since it was made (U t, not wrapped)
+  /// N s: time integrals of the grains' force on the lid since it was made (sum of F dt over
+  /// the steps): their differences give the exact mean force between two samples
+  double impulse_x = 0, impulse_y = 0;
 };
 
 /// The lid's displacement over one step (m).

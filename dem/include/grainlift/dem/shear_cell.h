@@ -38,9 +38,11 @@ struct ShearCellConfig {
 /// One sample (every sample_every steps).
 struct ShearCellSample {
   double time = 0;          ///< s
-  double pressure = 0;      ///< N/m, y force of the grains on the lid / W
-  double shear_stress = 0;  ///< N/m, tau on the lid: minus the grains' x force on it / W
-  double bottom_shear_stress = 0;  ///< N/m, tau on the bottom wall: the grains' x force on it / W
+  /// N/m, y force of the grains on the lid / W, averaged over the steps since the last sample
+  double pressure = 0;
+  double shear_stress = 0;  ///< N/m, tau on the lid: minus the grains' x force on it / W, the same
+  /// N/m, tau on the bottom wall: the grains' x force on it / W at the sample's step
+  double bottom_shear_stress = 0;
   double lid_height = 0;    ///< m, lid centre line above the bottom wall's
   double area_fraction = 0; ///< of the bulk (grains with centres > wall_layer d from both walls)
 };
