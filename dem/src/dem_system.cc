@@ -108,29 +108,36 @@ void DemSystem::attach_lid(const PressureLid& lid) {
   set_store_pair_forces(true);
 }
 
-double DemSystem::frozen_force_y(int begin, int end) const {
-  double f = 0;
+std::array<double, 2> DemSystem::frozen_force(int begin, int end) const {
+  std::array<double, 2> f{0, 0};
   for (int j = begin; j < end; ++j) {
     // pairs (i, j) list the force on the grain i; the frozen disk feels its opposite
-    for (std::int64_t s = nl_.rfirst[j]; s < nl_.rfirst[j + 1]; ++s) f -= nl_.fy[nl_.rpair[s]];
+    for (std::int64_t s = nl_.rfirst[j]; s < nl_.rfirst[j + 1]; ++s) {
+      f[0] -= nl_.fx[nl_.rpair[s]];
+      f[1] -= nl_.fy[nl_.rpair[s]];
+    }
   }
   return f;
 }
 
-void DemSystem::move_frozen(int begin, int end, double dy, double vy) {
+void DemSystem::move_frozen(int begin, int end, double dx, double dy, double vx, double vy) {
   for (int j = begin; j < end; ++j) {
+    p_.x[j] += dx;
     p_.y[j] += dy;
+    opt_.box.wrap(p_.x[j], p_.y[j]);
+    p_.vx[j] = vx;
     p_.vy[j] = vy;
   }
-  // A frozen disk that moved by |dy| changes a pair distance by at most |dy|: the same bound
-  // as a radius growth, so the Verlet-list rebuild test counts it there.
-  growth_since_build_ += std::abs(dy);
+  // A frozen disk that moved by |(dx, dy)| changes a pair distance by at most that much: the
+  // same bound as a radius growth, so the Verlet-list rebuild test counts it there.
+  growth_since_build_ += std::hypot(dx, dy);
 }
 
 void DemSystem::step_boundaries() {
   if (!lid_) return;
-  const double dy = lid_->advance(frozen_force_y(lid_->begin(), lid_->end()), opt_.dt);
-  move_frozen(lid_->begin(), lid_->end(), dy, lid_->state().velocity);
+  const std::array<double, 2> f = frozen_force(lid_->begin(), lid_->end());
+  const LidMove m = lid_->advance(f[0], f[1], opt_.dt);
+  move_frozen(lid_->begin(), lid_->end(), m.dx, m.dy, lid_->shear_velocity(), lid_->state().velocity);
 }
 
 void DemSystem::set_friction(double mu, double mu_intruder) {

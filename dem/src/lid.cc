@@ -1,5 +1,5 @@
 // Pressure-controlled lid: the top wall of frozen disks as a rigid body moving along y under a
-// target pressure (lid.h, docs/dem-model.md).
+// target pressure, and along x at an imposed speed (lid.h, docs/dem-model.md).
 #include "grainlift/dem/lid.h"
 
 #include <cmath>
@@ -21,9 +21,13 @@ double PressureLid::default_damping(const DemConfig& c, double mass) {
   return 2.0 * std::sqrt(stiffness * mass);
 }
 
-PressureLid::PressureLid(const DemConfig& c, const DemSystem& s) {
+PressureLid::PressureLid(const DemConfig& c, const DemSystem& s, double shear_velocity)
+    : shear_velocity_(shear_velocity) {
   if (!(c.lid_pressure > 0) || !c.wall_top || c.periodic_y) {
     throw ConfigError("the pressure lid needs lid_pressure > 0, a top wall and y not periodic");
+  }
+  if (!std::isfinite(shear_velocity) || (shear_velocity != 0 && !c.periodic_x)) {
+    throw ConfigError("a shearing lid needs a finite speed and a box periodic in x");
   }
   // The top wall disks: centres at ymax - d/2 (make_wall_disks puts them in one run).
   const std::vector<Disk> walls = make_wall_disks(c);
@@ -48,14 +52,18 @@ PressureLid::PressureLid(const DemConfig& c, const DemSystem& s) {
   state_.y = y_top;
 }
 
-double PressureLid::advance(double force_y, double dt) {
+LidMove PressureLid::advance(double force_x, double force_y, double dt) {
   const double f = force_y;
   const double v = (state_.velocity + dt * (f - force_target_) / mass_) / (1.0 + damping_ * dt / mass_);
-  const double dy = dt * v;
+  const LidMove move{shear_velocity_ * dt, dt * v};
   state_.velocity = v;
-  state_.y += dy;
+  state_.y += move.dy;
+  state_.x_shift += move.dx;
   state_.pressure = f / width_;
-  return dy;
+  state_.shear_stress = force_x / width_;
+  state_.impulse_x += force_x * dt;
+  state_.impulse_y += force_y * dt;
+  return move;
 }
 
 }  // namespace grainlift::dem

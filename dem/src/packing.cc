@@ -79,7 +79,7 @@ bool insert_randomly(const DemConfig& c, const std::vector<double>& r, std::mt19
                             : reg.y0 + rn + uniform01(rng) * (reg.y1 - reg.y0 - 2 * rn);
       double dx = px - ix, dy = py - iy;
       box.min_image(dx, dy);
-      if (dx * dx + dy * dy < (ir + rn) * (ir + rn)) continue;
+      if (ir > 0 && dx * dx + dy * dy < (ir + rn) * (ir + rn)) continue;  // D = 0: no intruder
       const int cx = std::min(ncx - 1, std::max(0, static_cast<int>((px - c.xmin) / hx)));
       const int cy = std::min(ncy - 1, std::max(0, static_cast<int>((py - c.ymin) / hy)));
       bool free = true;
@@ -308,8 +308,10 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   DemSystem s(system_options(c));
   const std::vector<Disk> walls = make_wall_disks(c);
   s.set_bodies(grain_disks(c, x, y, r_ins), walls);
-  s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter, 0,
-                 0, 0, 0);
+  if (c.intruder_diameter > 0) {  // 0: a bed without an intruder (the shear cell)
+    s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter, 0,
+                   0, 0, 0);
+  }
   // Drag rate ~ the lowest collective frequencies of the bed: stronger drag over-damps them
   // and relaxation slows down (1/(200 dt) was 7x slower than 1/(2000 dt) at Phi 0.82).
   const double damping = 1.0 / (2000.0 * c.dt);

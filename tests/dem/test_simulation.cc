@@ -352,7 +352,7 @@ TEST(Simulation, PackingUnderGravityIsAtRestAndCarriesItsWeight) {
   s.prepare();
   // Forces on the grains balance: bottom wall (-bottom, up) + intruder (-fy) = weight. The fixed
   // intruder is pushed up by the grains grown under it (fy > 0): the wall carries that too.
-  const double bottom = s.frozen_force_y(s.grains(), s.grains() + static_cast<int>(walls.size()));
+  const double bottom = s.frozen_force(s.grains(), s.grains() + static_cast<int>(walls.size()))[1];
   EXPECT_NEAR(-bottom - s.intruder_fy(), weight, 0.02 * weight);
   for (int k = 0; k < 1000; ++k) s.step();
   double moved = 0;

@@ -128,9 +128,9 @@ class DemSystem {
   void attach_lid(const PressureLid& lid);
   /// The lid, or nullptr without one.
   const PressureLid* lid() const { return lid_ ? &*lid_ : nullptr; }
-  /// @brief y force (N) of the grains on the frozen disks [begin, end) at the last step, from
-  /// the stored pair forces (set_store_pair_forces(true) is needed).
-  double frozen_force_y(int begin, int end) const;
+  /// @brief Force (N; x, y) of the grains on the frozen disks [begin, end) at the last step,
+  /// from the stored pair forces (set_store_pair_forces(true) is needed).
+  std::array<double, 2> frozen_force(int begin, int end) const;
 
   // ---- measurements
   double time() const { return time_; }
@@ -195,9 +195,9 @@ class DemSystem {
   /// The clock, and the intruder's drift of the next step unless @p last (its displacement
   /// since the build into @p intruder_disp).
   void advance_clock(bool last, double& intruder_disp);
-  /// Move the frozen disks [begin, end) by dy (m), with the velocity (0, vy) (m/s) in the
-  /// contact law.
-  void move_frozen(int begin, int end, double dy, double vy);
+  /// Move the frozen disks [begin, end) by (dx, dy) (m; x wrapped in a periodic box), with the
+  /// velocity (vx, vy) (m/s) in the contact law.
+  void move_frozen(int begin, int end, double dx, double dy, double vx, double vy);
   /// Runs up to m steps on one thread; stops early (state drifted) when the lists need a
   /// rebuild. Returns the steps completed.
   long long run_segment(long long m);

@@ -1,6 +1,7 @@
 // Pressure-controlled lid (Guillard 2014 method iii in 2D): the top wall of frozen disks moves
-// as one rigid body along y under a prescribed confining pressure. A boundary that owns its
-// state (position, velocity, measured pressure, mass, damping); DemSystem moves its disks after
+// as one rigid body along y under a prescribed confining pressure and, optionally, along x at an
+// imposed speed U (a simple-shear cell, shear_cell.h). A boundary that owns its state (position,
+// velocity, measured pressure and shear stress, mass, damping); DemSystem moves its disks after
 // the forces of every step (DemSystem::attach_lid). See docs/dem-model.md.
 #pragma once
 
@@ -15,6 +16,18 @@ struct LidState {
   double y = 0;         ///< m, height of the lid disks' centres
   double velocity = 0;  ///< m/s
   double pressure = 0;  ///< N/m (2D pressure, = Pa per unit depth): grain force on the lid / width
+  /// N/m: x force of the grains on the lid / width (the shear stress the lid feels; with U > 0
+  /// the grains drag the lid back, so it is negative)
+  double shear_stress = 0;
+  double x_shift = 0;   ///< m, x travelled by the lid since it was made (U t, not wrapped)
+  /// N s: time integrals of the grains' force on the lid since it was made (sum of F dt over
+  /// the steps): their differences give the exact mean force between two samples
+  double impulse_x = 0, impulse_y = 0;
+};
+
+/// The lid's displacement over one step (m).
+struct LidMove {
+  double dx = 0, dy = 0;
 };
 
 /// The top wall as a rigid lid with mass M and linear damping c:
@@ -23,23 +36,29 @@ struct LidState {
 /// width (m), P the target pressure (N/m). Integrated once per step, after the forces, by
 /// symplectic Euler with the damping implicit:
 ///   v' = (v + dt (F_grains - P W) / M) / (1 + c dt / M),   y' = y + dt v'.
-/// The lid disks are moved by dt v' and carry v' as their velocity in the contact law.
+/// Along x the lid's velocity is imposed, U (m/s): it moves by U dt per step, whatever the
+/// force (a shear-rate-controlled wall). The lid disks are moved by (U dt, dt v') and carry
+/// (U, v') as their velocity in the contact law.
 class PressureLid {
  public:
   /// @brief Take the top-wall disks of cfg (frozen indices in s) as the lid. cfg.lid_pressure
   /// > 0, cfg.wall_top, !cfg.periodic_y (validate_config checks). Mass and damping from cfg or,
   /// when 0 there, default_mass() and default_damping() below. s must hold the bodies already.
-  PressureLid(const DemConfig& cfg, const DemSystem& s);
+  /// @param shear_velocity m/s, the imposed x velocity U of the lid (0: the lid moves along y
+  /// only, bit for bit the lid without this parameter).
+  PressureLid(const DemConfig& cfg, const DemSystem& s, double shear_velocity = 0);
 
-  /// @brief One step of the lid's equation of motion under the grain force @p force_y (N) over
-  /// @p dt (s). Returns the lid's displacement dt v' (m); state() then holds y', v' and the
-  /// pressure force_y / W.
-  double advance(double force_y, double dt);
+  /// @brief One step of the lid's equation of motion under the grain force (@p force_x,
+  /// @p force_y) (N) over @p dt (s). Returns the lid's displacement (U dt, dt v') (m); state()
+  /// then holds y', v', the pressure force_y / W and the shear stress force_x / W.
+  LidMove advance(double force_x, double force_y, double dt);
 
   /// Lid state after the last advance() (pressure: the force measured in that call).
   const LidState& state() const { return state_; }
   double mass() const { return mass_; }        ///< kg
   double damping() const { return damping_; }  ///< kg/s
+  double shear_velocity() const { return shear_velocity_; }  ///< m/s, U
+  double width() const { return width_; }      ///< m, W
   int begin() const { return begin_; }         ///< first particle index of the lid disks
   int end() const { return end_; }             ///< one past the last
   int disks() const { return end_ - begin_; }
@@ -58,6 +77,7 @@ class PressureLid {
   double width_ = 0;         ///< m, box width W
   double force_target_ = 0;  ///< N, P W
   double mass_ = 0, damping_ = 0;
+  double shear_velocity_ = 0;  ///< m/s, U
   LidState state_;
 };
 

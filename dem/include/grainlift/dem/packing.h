@@ -19,7 +19,8 @@ struct PackedBed {
 };
 
 /// @brief Area (m^2) open to grains: the box minus the wall strips (one mean diameter per
-/// wall) minus the intruder disk. Phi = sum of grain areas / this area.
+/// wall) minus the intruder disk (none when intruder_diameter = 0). Phi = sum of grain areas /
+/// this area.
 double accessible_area(const DemConfig& cfg);
 
 /// @brief Frozen wall disks of the mean diameter, centres d/2 inside each walled box edge,
@@ -33,6 +34,7 @@ std::uint64_t packing_hash(const DemConfig& cfg);
 std::string packing_cache_path(const DemConfig& cfg);
 
 /// @brief Prepare the bed for cfg, or load it from packing_cache_dir when it was saved before.
+/// cfg.intruder_diameter = 0 prepares a bed without an intruder.
 /// Throws ConfigError when the bed cannot be made (e.g. Phi out of range).
 PackedBed prepare_packing(const DemConfig& cfg, const ProgressCallback& progress = {});
 
