@@ -30,7 +30,6 @@ int main(int argc, char** argv) {
   c.pressure = 500;
   const double d = c.grains.grain_diameter;
   const double gap = (c.height - 1) * d;  // between the walls' centre lines
-  const double v_p = std::sqrt(c.pressure / c.grains.density);
   std::printf("shear cell %g d x %g d, P = %g N/m, kn/P = %.3g, dt = %g s, Kumar grains mu = %g\n",
               c.width, c.height, c.pressure, c.grains.contact.kn * d / c.pressure, c.grains.dt,
               c.grains.contact.friction);
@@ -38,18 +37,8 @@ int main(int argc, char** argv) {
               "Phi +- se", "R^2", "steady", "strain", "wall_s");
   const auto t_all = std::chrono::steady_clock::now();
   for (double target : targets) {
-    c.wall_speed = target * gap * v_p / d;
+    c = gd::shear_cell_at(c, target, strain_scale);
     const double rate = c.wall_speed / gap;  // 1/s, nominal
-    // strain of the run-in and of the window: 1 and 2 at I >= 0.01, halved below (cost)
-    const double s_in = (target < 0.01 ? 0.5 : 1.0) * strain_scale;
-    const double s_win = (target < 0.01 ? 1.0 : 2.0) * strain_scale;
-    const auto steps = [&](double strain) {
-      return static_cast<long long>(std::ceil(strain / (rate * c.grains.dt)));
-    };
-    c.run_in_steps = steps(s_in);
-    c.measure_steps = steps(s_win);
-    c.max_run_in_steps = c.run_in_steps + 2 * c.measure_steps;
-    c.sample_every = static_cast<int>(std::max(10LL, c.measure_steps / 2000));
     const auto t0 = std::chrono::steady_clock::now();
     const gd::ShearCellResult r = gd::run_shear_cell(c);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

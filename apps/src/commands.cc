@@ -251,6 +251,30 @@ int main_with_args(int argc, char** argv) {
   add_run_options(sweep, sweep_args);
   sweep->add_option("--vary", vary, "section.key=v1,v2,... (any key)")->required();
 
+  CalibrateArgs cal;
+  auto* calibrate = app.add_subcommand(
+      "calibrate", "measure mu(I) and Phi(I) of the case's grains in a DEM shear cell and fit "
+                   "them: a rheology file for continuum.rheology_file");
+  calibrate->add_option("CASE", cal.case_path, "case file whose grains are calibrated")->required();
+  calibrate->add_option("--out", cal.out, "rheology file to write (default: rheology.toml beside "
+                                          "the case)");
+  calibrate->add_option("--set", cal.sets, "override a case key (as for run)");
+  calibrate->add_option("--pressure", cal.pressure,
+                        "P of the cell, Pa (default: the case's: lid + lithostatic, or "
+                        "continuum.ambient_pressure)")
+      ->check(CLI::PositiveNumber);
+  calibrate->add_option("--inertial-numbers", cal.inertial_numbers,
+                        "target inertial numbers (default 1e-3 3e-3 1e-2 3e-2 0.06 0.1 0.2 0.5)")
+      ->check(CLI::Range(1e-5, 2.0));
+  calibrate->add_option("--strain-scale", cal.strain_scale,
+                        "multiplies the strain of every point's run-in and window")
+      ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
+  calibrate->add_option("--threads", cal.threads, "threads for the DEM")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  calibrate->add_flag("--quiet", cal.quiet, "no line per point");
+
   bool markdown = false;
   auto* keys = app.add_subcommand("keys", "list every case key with unit, default and range");
   keys->add_flag("--markdown", markdown, "as the Markdown table of docs/case-format.md");
@@ -267,6 +291,7 @@ int main_with_args(int argc, char** argv) {
     if (*validate) return cmd_validate(validate_files, validate_sets);
     if (*compare) return cmd_compare(cmp_a, cmp_b, cmp_json);
     if (*sweep) return cmd_sweep(sweep_args, vary);
+    if (*calibrate) return cmd_calibrate(cal);
     if (*keys) {
       if (markdown) fmt::print("{}", keys_markdown());
       else

@@ -1,4 +1,4 @@
-// The subcommands of `grainlift` (run, validate, compare, sweep, keys).
+// The subcommands of `grainlift` (run, validate, compare, sweep, calibrate, keys).
 #pragma once
 
 #include <string>
@@ -7,6 +7,20 @@
 #include "grainlift/shared/run_driver.h"
 
 namespace grainlift::app {
+
+/// Arguments of `grainlift calibrate`.
+struct CalibrateArgs {
+  std::string case_path, out;
+  std::vector<std::string> sets;
+  double pressure = 0;                    ///< Pa; 0: the case's
+  std::vector<double> inertial_numbers;   ///< empty: the default sweep
+  double strain_scale = 1;
+  int threads = 1;
+  bool quiet = false;
+};
+
+/// `grainlift calibrate` (calibrate_command.cc); exit code.
+int cmd_calibrate(const CalibrateArgs& a);
 
 /// Parses argv, runs the subcommand, maps errors to exit codes (0, 1 run failed, 2 bad input).
 int main_with_args(int argc, char** argv);

@@ -165,6 +165,24 @@ DemConfig shear_cell_dem_config(const ShearCellConfig& c) {
   return dc;
 }
 
+ShearCellConfig shear_cell_at(const ShearCellConfig& base, double target_I, double strain_scale) {
+  ShearCellConfig c = base;
+  const double d = c.grains.grain_diameter;
+  const double gap = (c.height - 1) * d;  // between the walls' centre lines
+  c.wall_speed = target_I * gap * std::sqrt(c.pressure / c.grains.density) / d;
+  const double rate = c.wall_speed / gap;  // 1/s, nominal
+  const double s_in = (target_I < 0.01 ? 0.5 : 1.0) * strain_scale;
+  const double s_win = (target_I < 0.01 ? 1.0 : 2.0) * strain_scale;
+  const auto steps = [&](double strain) {
+    return static_cast<long long>(std::ceil(strain / (rate * c.grains.dt)));
+  };
+  c.run_in_steps = steps(s_in);
+  c.measure_steps = steps(s_win);
+  c.max_run_in_steps = c.run_in_steps + 2 * c.measure_steps;
+  c.sample_every = static_cast<int>(std::max(10LL, c.measure_steps / 2000));
+  return c;
+}
+
 ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback& progress) {
   const DemConfig dc = shear_cell_dem_config(c);
   validate(c, dc);

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "grainlift/shared/result_file.h"
+#include "grainlift/shared/rheology_file.h"
 #include "run_command.h"
 
 using namespace grainlift;
@@ -142,4 +143,38 @@ TEST(EndToEnd, TooLargeTimeStepIsBadInput) {
       << out;
   EXPECT_NE(out.find("collision time"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(d / "bad" / "dem.h5"));
+}
+
+// `grainlift calibrate` on Kumar's grains (the tiny case's, mu = 0.5) at P = 500 N/m and five
+// inertial numbers from 0.01 to 0.5 at half the default strain (a few seconds; points on both
+// sides of I0, without which mu_s is not determined and the fit refuses): the rheology file is
+// written and reads back; the friction rises with I (mu(I) is increasing, GDR MiDi 2004;
+// measured 0.29, 0.26 at I = 0.017, 0.024 and 0.35, 0.33 at I = 0.41, 0.65: a margin of 0.14
+// for the 0.05 asserted), with a static friction mu_s of frictional disks between 0.1 and 0.4
+// (da Cruz et al. 2005: about 0.26) and a random packing below 0.84. A case with no pressure of
+// its own and no --pressure is bad input.
+TEST(EndToEnd, CalibrateWritesAFittedRheologyFile) {
+  const fs::path dir = scratch();
+  const fs::path case_file = dir / "calibrate.toml";
+  std::ofstream(case_file) << tiny_case;
+  const fs::path law = dir / "law.toml";
+  std::string out;
+  const int rc = run("calibrate " + case_file.string() + " --pressure 500 --inertial-numbers 0.01 "
+                     "0.03 0.1 0.2 0.5 --strain-scale 0.5 --out " + law.string(), &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("rheology file: " + law.string()), std::string::npos) << out;
+  const RheologyFile f = read_rheology_file(law.string());
+  ASSERT_GE(f.points.size(), 4u) << out;
+  // the two fastest points against the two slowest (each point alone is +- 0.01 to 0.05)
+  const auto& q = f.points;
+  const std::size_t n = q.size();
+  EXPECT_GT(q[n - 1].mu + q[n - 2].mu, q[0].mu + q[1].mu + 0.05) << out;
+  EXPECT_GT(f.mu_i.mu_s, 0.1) << out;
+  EXPECT_LT(f.mu_i.mu_s, 0.4) << out;
+  EXPECT_GT(f.phi_i.phi_max, 0.6) << out;
+  EXPECT_LT(f.phi_i.phi_max, 0.84) << out;
+  const int bad = run("calibrate " + case_file.string() + " --out " + law.string(), &out);
+  EXPECT_EQ(bad, 2) << out;
+  EXPECT_NE(out.find("calibrate needs a pressure"), std::string::npos) << out;
+  fs::remove_all(dir);
 }

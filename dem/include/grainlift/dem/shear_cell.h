@@ -78,6 +78,13 @@ struct ShearCellResult {
 /// @throws ConfigError for a bad configuration, RunFailure when the run blows up.
 ShearCellResult run_shear_cell(const ShearCellConfig& cfg, const ProgressCallback& progress = {});
 
+/// @brief @p base set up for one point of a rheology sweep at the target inertial number
+/// @p target_I: the wall speed U = I gap sqrt(P / rho_s) / d (gap between the walls' centre
+/// lines, so the nominal shear rate U / gap gives I), a run-in of strain 1 and a window of
+/// strain 2 (half that below I = 0.01, for the cost), times @p strain_scale, a run-in that may
+/// be extended by two windows until steady, and about 2,000 samples per window.
+ShearCellConfig shear_cell_at(const ShearCellConfig& base, double target_I, double strain_scale);
+
 /// @brief The DemConfig of the cell's bed and lid (box, walls, no gravity, no intruder,
 /// lid_pressure = P) from cfg.grains.
 DemConfig shear_cell_dem_config(const ShearCellConfig& cfg);

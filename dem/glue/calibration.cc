@@ -1,0 +1,77 @@
+// `grainlift calibrate` (calibration.h): shear-cell sweep on the case's grains, then the fit.
+#include "grainlift/dem/calibration.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "grainlift/dem/dem_solver.h"
+#include "grainlift/dem/errors.h"
+#include "grainlift/dem/shear_cell.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/run_driver.h"
+
+namespace grainlift::dem {
+
+Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
+                               const std::function<void(const std::string&)>& say) {
+  const double pressure = o.pressure > 0 ? o.pressure : c.continuum_pressure();
+  if (!(pressure > 0))
+    throw InputError(fmt::format(
+        "{}: calibrate needs a pressure: the case has no lid, no gravity and no "
+        "continuum.ambient_pressure; give one with --pressure",
+        c.source.path));
+  ShearCellConfig base;
+  base.grains = make_dem_config(c, o.threads);
+  base.width = o.width;
+  base.height = o.height;
+  base.pressure = pressure;
+  Calibration cal;
+  std::vector<ShearPoint> fit_points;
+  for (const double target : o.inertial_numbers) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ShearCellResult r;
+    try {
+      r = run_shear_cell(shear_cell_at(base, target, o.strain_scale));
+    } catch (const ConfigError& e) {
+      throw InputError(fmt::format("{}: shear cell at I = {}: {}", c.source.path, target, e.what()));
+    } catch (const RunFailure& e) {
+      throw RunError(fmt::format("shear cell at I = {}: {}", target, e.what()));
+    }
+    CalibrationPoint p;
+    p.target_I = target;
+    p.point = {r.inertial_number, r.friction.mean, r.friction.se, r.area_fraction.mean,
+               r.area_fraction.se};
+    p.steady = r.steady;
+    p.profile_r2 = r.profile_r2;
+    p.fitted = r.profile_r2 >= o.min_profile_r2 && p.point.mu_stderr > 0 && p.point.phi_stderr > 0;
+    p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    say(fmt::format("I target {:<6g} measured {:.4g}: mu {:.4f} +- {:.4f}, Phi {:.4f} +- {:.4f}, "
+                    "profile R^2 {:.3f}{}{} ({:.1f} s)",
+                    target, p.point.I, p.point.mu, p.point.mu_stderr, p.point.phi,
+                    p.point.phi_stderr, p.profile_r2, p.steady ? "" : ", NOT steady",
+                    p.fitted ? "" : ", shear-banded or no error: left out of the fit",
+                    p.wall_seconds));
+    if (p.fitted) fit_points.push_back(p.point);
+    cal.points.push_back(p);
+  }
+  if (fit_points.size() < 4)
+    throw InputError(fmt::format(
+        "{}: only {} of {} shear-cell points have a linear velocity profile (R^2 >= {}); the "
+        "fit needs 4: give more or other --inertial-numbers",
+        c.source.path, fit_points.size(), cal.points.size(), o.min_profile_r2));
+  const DemConfig& g = base.grains;
+  cal.law = make_rheology_file(
+      fit_points,
+      {{"case", c.source.path},
+       {"grains", fmt::format("d {} m, polydispersity {}, density {} kg/m^2, law {}, friction {}",
+                              g.grain_diameter, g.polydispersity, g.density,
+                              c.grains.contact.law, g.contact.friction)},
+       {"pressure", fmt::format("{} Pa", pressure)},
+       {"cell", fmt::format("{} d x {} d, strain scale {}", o.width, o.height, o.strain_scale)},
+       {"grainlift", grainlift_version() + " (" + grainlift_git_revision() + ")"}});
+  return cal;
+}
+
+}  // namespace grainlift::dem

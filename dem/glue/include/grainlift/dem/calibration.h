@@ -1,0 +1,52 @@
+// `grainlift calibrate`: the mu(I) and Phi(I) of a case's grains, measured in the DEM
+// simple-shear cell (dem/include/grainlift/dem/shear_cell.h) at imposed pressure and fitted
+// (shared/include/grainlift/shared/rheology_fit.h), for the continuum to use the DEM's material
+// (continuum.rheology_file).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "grainlift/shared/case_model.h"
+#include "grainlift/shared/rheology_file.h"
+
+namespace grainlift::dem {
+
+struct CalibrationOptions {
+  /// P of the cell (Pa, 2D reading); 0: the case's confining pressure at the intruder (lid plus
+  /// lithostatic), else continuum.ambient_pressure.
+  double pressure = 0;
+  /// Target inertial numbers (default: 8 from 1e-3 to 0.5).
+  std::vector<double> inertial_numbers = {1e-3, 3e-3, 1e-2, 3e-2, 0.06, 0.1, 0.2, 0.5};
+  double strain_scale = 1;  ///< multiplies the strain of each point's run-in and window
+  double width = 20, height = 20;  ///< cell size, mean grain diameters
+  int threads = 1;
+  /// Points whose bulk velocity profile is not linear (R^2 below this) are shear-banded:
+  /// reported, kept in the file, left out of the fit.
+  double min_profile_r2 = 0.9;
+};
+
+/// One measured point of the sweep and how far to trust it.
+struct CalibrationPoint {
+  double target_I = 0;
+  ShearPoint point;       ///< measured I, mu, Phi with standard errors
+  bool steady = false;    ///< the two halves of the window agreed
+  double profile_r2 = 0;  ///< linearity of the bulk velocity profile
+  bool fitted = false;    ///< used in the fit (linear profile)
+  double wall_seconds = 0;
+};
+
+struct Calibration {
+  std::vector<CalibrationPoint> points;
+  RheologyFile law;  ///< fitted to the points with fitted = true
+};
+
+/// @brief Run the shear cell on the case's grains (size distribution, density, contact law,
+/// friction, dt, seed, packing cache) at each target I and fit mu(I), Phi(I).
+/// @param say  one line per point (and warnings)
+/// @throws InputError when no pressure is known or too few points have a linear profile.
+Calibration calibrate_rheology(const Case& c, const CalibrationOptions& options,
+                               const std::function<void(const std::string&)>& say);
+
+}  // namespace grainlift::dem
