@@ -38,6 +38,9 @@ def load(path):
             "theta": f["surface/theta"][:],
             "sigma_n": f["surface/sigma_n"][:],
             "sigma_t": f["surface/sigma_t"][:],
+            # the traction itself for force integrals (files before the kernel average: /surface)
+            "sigma_n_pointwise": f["surface/sigma_n_pointwise" if "sigma_n_pointwise" in f["surface"]
+                                   else "surface/sigma_n"][:],
             "D": float(g["intruder_diameter"]),
             "rho": float(g["bulk_density"]),
             "g": math.hypot(float(g["gravity_x"]), float(g["gravity_y"])),
@@ -105,7 +108,7 @@ def hydrostatic_weighting_lift(base, g, rho):
     R = 0.5 * base["D"]
     th = base["theta"]
     w = (base["P0"] - rho * g * R * np.sin(th)) / base["P0"]
-    sn = base["sigma_n"] * w
+    sn = base["sigma_n_pointwise"] * w
     dth = 2 * np.pi / len(th)
     # the normal stress pushes on the surface along -n: force_y = -sum sigma_n sin(theta) R dtheta
     return -np.sum(sn * np.sin(th)) * R * dth

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "grainlift/shared/json_writer.h"
 #include "grainlift/shared/surface_stress.h"
@@ -35,6 +36,36 @@ double interpolate(const std::vector<double>& theta, const std::vector<double>& 
   return (1 - w) * v[lo] + w * v[hi];
 }
 
+/// (b - a) / sqrt(se_a^2 + se_b^2); absent without se_a or when the combined error is 0.
+std::optional<double> in_error_units(double a, double b, const std::optional<double>& se_a,
+                                     const std::optional<double>& se_b) {
+  if (!se_a) return std::nullopt;
+  const double se = std::hypot(*se_a, se_b.value_or(0.0));
+  if (!(se > 0)) return std::nullopt;
+  return (b - a) / se;
+}
+
+/// Root mean square and max of |d| over the grid, divided by @p P.
+void norms(const std::vector<double>& d, double P, double& l2, double& max) {
+  double sum = 0;
+  max = 0;
+  for (double x : d) {
+    sum += x * x;
+    max = std::max(max, std::abs(x) / P);
+  }
+  l2 = std::sqrt(sum / double(d.size())) / P;
+}
+
+/// The norms of d and of its symmetric and antisymmetric parts (symmetry_split).
+void split_norms(const std::vector<double>& d, double P, double& l2, double& max, double& sym_l2,
+                 double& sym_max, double& anti_l2, double& anti_max) {
+  std::vector<double> sym, anti;
+  symmetry_split(d, sym, anti);
+  norms(d, P, l2, max);
+  norms(sym, P, sym_l2, sym_max);
+  norms(anti, P, anti_l2, anti_max);
+}
+
 }  // namespace
 
 Comparison compare_results(const RunResult& a, const RunResult& b) {
@@ -52,6 +83,10 @@ Comparison compare_results(const RunResult& a, const RunResult& b) {
     c.drag_rel = relative(c.drag_a, c.drag_b);
     c.lift_rel = relative(c.lift_a, c.lift_b);
     c.torque_rel = relative(c.torque_a, c.torque_b);
+    c.drag_z = in_error_units(c.drag_a, c.drag_b, a.means->drag_stderr, b.means->drag_stderr);
+    c.lift_z = in_error_units(c.lift_a, c.lift_b, a.means->lift_stderr, b.means->lift_stderr);
+    c.torque_z =
+        in_error_units(c.torque_a, c.torque_b, a.means->torque_stderr, b.means->torque_stderr);
   }
   if (a.surface && b.surface && !a.surface->theta.empty() && !b.surface->theta.empty()) {
     c.have_surface = true;
@@ -67,19 +102,15 @@ Comparison compare_results(const RunResult& a, const RunResult& b) {
     }
     const double P = c.pressure_scale > 0 ? c.pressure_scale : 1.0;
     const auto& ta = a.surface->theta;
-    double sn2 = 0, st2 = 0;
+    std::vector<double> dn(ta.size()), dt(ta.size());
     for (std::size_t m = 0; m < ta.size(); ++m) {
-      const double dn =
-          interpolate(b.surface->theta, b.surface->sigma_n, ta[m]) - a.surface->sigma_n[m];
-      const double dt =
-          interpolate(b.surface->theta, b.surface->sigma_t, ta[m]) - a.surface->sigma_t[m];
-      sn2 += dn * dn;
-      st2 += dt * dt;
-      c.sigma_n_max = std::max(c.sigma_n_max, std::abs(dn) / P);
-      c.sigma_t_max = std::max(c.sigma_t_max, std::abs(dt) / P);
+      dn[m] = interpolate(b.surface->theta, b.surface->sigma_n, ta[m]) - a.surface->sigma_n[m];
+      dt[m] = interpolate(b.surface->theta, b.surface->sigma_t, ta[m]) - a.surface->sigma_t[m];
     }
-    c.sigma_n_l2 = std::sqrt(sn2 / double(ta.size())) / P;
-    c.sigma_t_l2 = std::sqrt(st2 / double(ta.size())) / P;
+    split_norms(dn, P, c.sigma_n_l2, c.sigma_n_max, c.sigma_n_symmetric_l2,
+                c.sigma_n_symmetric_max, c.sigma_n_antisymmetric_l2, c.sigma_n_antisymmetric_max);
+    split_norms(dt, P, c.sigma_t_l2, c.sigma_t_max, c.sigma_t_symmetric_l2,
+                c.sigma_t_symmetric_max, c.sigma_t_antisymmetric_l2, c.sigma_t_antisymmetric_max);
   }
   return c;
 }
@@ -98,6 +129,9 @@ JsonObject comparison_object(const Comparison& c) {
     o.add("drag_rel", c.drag_rel);
     o.add("lift_rel", c.lift_rel);
     o.add("torque_rel", c.torque_rel);
+    o.add("drag_z", c.drag_z);
+    o.add("lift_z", c.lift_z);
+    o.add("torque_z", c.torque_z);
   }
   if (c.have_surface) {
     o.add("pressure_scale", c.pressure_scale);
@@ -106,6 +140,14 @@ JsonObject comparison_object(const Comparison& c) {
     o.add("sigma_n_max", c.sigma_n_max);
     o.add("sigma_t_l2", c.sigma_t_l2);
     o.add("sigma_t_max", c.sigma_t_max);
+    o.add("sigma_n_symmetric_l2", c.sigma_n_symmetric_l2);
+    o.add("sigma_n_symmetric_max", c.sigma_n_symmetric_max);
+    o.add("sigma_n_antisymmetric_l2", c.sigma_n_antisymmetric_l2);
+    o.add("sigma_n_antisymmetric_max", c.sigma_n_antisymmetric_max);
+    o.add("sigma_t_symmetric_l2", c.sigma_t_symmetric_l2);
+    o.add("sigma_t_symmetric_max", c.sigma_t_symmetric_max);
+    o.add("sigma_t_antisymmetric_l2", c.sigma_t_antisymmetric_l2);
+    o.add("sigma_t_antisymmetric_max", c.sigma_t_antisymmetric_max);
   }
   return o;
 }
@@ -118,14 +160,19 @@ std::string comparison_text(const Comparison& c) {
   auto rel = [](const std::optional<double>& r) {
     return r ? fmt::format("{:+.4f}", *r) : std::string("n/a (A = 0)");
   };
+  auto z = [](const std::optional<double>& v) {
+    return v ? fmt::format("  (B-A)/se {:+.3g}", *v) : std::string();
+  };
   std::string s = fmt::format("A: {}   B: {}\n", c.solver_a, c.solver_b);
   if (c.have_means) {
-    s += fmt::format("  drag    A {:.6g}  B {:.6g}  (B-A)/|A| {}\n", c.drag_a, c.drag_b,
-                     rel(c.drag_rel));
-    s += fmt::format("  lift    A {:.6g}  B {:.6g}  (B-A)/|A| {}\n", c.lift_a, c.lift_b,
-                     rel(c.lift_rel));
-    s += fmt::format("  torque  A {:.6g}  B {:.6g}  (B-A)/|A| {}\n", c.torque_a, c.torque_b,
-                     rel(c.torque_rel));
+    s += fmt::format("  drag    A {:.6g}  B {:.6g}  (B-A)/|A| {}{}\n", c.drag_a, c.drag_b,
+                     rel(c.drag_rel), z(c.drag_z));
+    s += fmt::format("  lift    A {:.6g}  B {:.6g}  (B-A)/|A| {}{}\n", c.lift_a, c.lift_b,
+                     rel(c.lift_rel), z(c.lift_z));
+    s += fmt::format("  torque  A {:.6g}  B {:.6g}  (B-A)/|A| {}{}\n", c.torque_a, c.torque_b,
+                     rel(c.torque_rel), z(c.torque_z));
+    if (c.drag_z || c.lift_z || c.torque_z)
+      s += "  (se: the combined standard error sqrt(se_A^2 + se_B^2))\n";
   } else {
     s += "  no mean forces in one of the files\n";
   }
@@ -134,6 +181,14 @@ std::string comparison_text(const Comparison& c) {
                      c.pressure_scale_from);
     s += fmt::format("  sigma_n: L2 {:.4g} P, max {:.4g} P\n", c.sigma_n_l2, c.sigma_n_max);
     s += fmt::format("  sigma_t: L2 {:.4g} P, max {:.4g} P\n", c.sigma_t_l2, c.sigma_t_max);
+    s += fmt::format("  sigma_n symmetric: L2 {:.4g} P, max {:.4g} P; antisymmetric: L2 {:.4g} "
+                     "P, max {:.4g} P\n",
+                     c.sigma_n_symmetric_l2, c.sigma_n_symmetric_max, c.sigma_n_antisymmetric_l2,
+                     c.sigma_n_antisymmetric_max);
+    s += fmt::format("  sigma_t symmetric: L2 {:.4g} P, max {:.4g} P; antisymmetric: L2 {:.4g} "
+                     "P, max {:.4g} P\n",
+                     c.sigma_t_symmetric_l2, c.sigma_t_symmetric_max, c.sigma_t_antisymmetric_l2,
+                     c.sigma_t_antisymmetric_max);
   } else {
     s += "  no surface distribution in one of the files\n";
   }

@@ -200,6 +200,8 @@ void write_body(hid_t file, const RunResult& r) {
     dataset_doubles(g, "sigma_n", s.sigma_n, "Pa");
     dataset_doubles(g, "sigma_t", s.sigma_t, "Pa");
     attr_number(g, "kernel_width_deg", s.kernel_width_deg);
+    if (s.sigma_n_pointwise) dataset_doubles(g, "sigma_n_pointwise", *s.sigma_n_pointwise, "Pa");
+    if (s.sigma_t_pointwise) dataset_doubles(g, "sigma_t_pointwise", *s.sigma_t_pointwise, "Pa");
   }
   if (r.histogram) {
     const SurfaceHistogram& h = *r.histogram;
@@ -441,6 +443,8 @@ RunResult read_body(hid_t file) {
     s.sigma_n = read_doubles(g, "sigma_n");
     s.sigma_t = read_doubles(g, "sigma_t");
     s.kernel_width_deg = read_attr_double(g, "kernel_width_deg");
+    if (exists(g, "sigma_n_pointwise")) s.sigma_n_pointwise = read_doubles(g, "sigma_n_pointwise");
+    if (exists(g, "sigma_t_pointwise")) s.sigma_t_pointwise = read_doubles(g, "sigma_t_pointwise");
     r.surface = std::move(s);
   }
   if (exists(file, "histogram")) {

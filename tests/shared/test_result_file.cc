@@ -130,6 +130,9 @@ void expect_equal(const RunResult& a, const RunResult& b) {
   ASSERT_EQ(a.surface.has_value(), b.surface.has_value());
   if (a.surface) {
     EXPECT_EQ(a.surface->sigma_t, b.surface->sigma_t);
+    EXPECT_EQ(a.surface->kernel_width_deg, b.surface->kernel_width_deg);
+    EXPECT_EQ(a.surface->sigma_n_pointwise, b.surface->sigma_n_pointwise);
+    EXPECT_EQ(a.surface->sigma_t_pointwise, b.surface->sigma_t_pointwise);
   }
   ASSERT_EQ(a.histogram.has_value(), b.histogram.has_value());
   if (a.histogram) {
@@ -166,6 +169,8 @@ TEST(ResultFile, RoundTripIsExact) {
   EXPECT_FALSE(back.fields->pressure.has_value());
   EXPECT_FALSE(back.fields->granular_temperature.has_value());
   EXPECT_FALSE(back.means->torque_stderr.has_value());
+  // A DEM surface has no pointwise trace: the datasets are absent, not zeros.
+  EXPECT_FALSE(back.surface->sigma_n_pointwise.has_value());
 }
 
 TEST(ResultFile, AbsentBlocksAreNotWritten) {
@@ -179,6 +184,9 @@ TEST(ResultFile, AbsentBlocksAreNotWritten) {
   r.histogram.reset();
   r.fields.reset();
   r.lid.reset();
+  // the FE surface: the kernel average and, beside it, the pointwise trace
+  r.surface->sigma_n_pointwise = std::vector<double>(8, 250.5);
+  r.surface->sigma_t_pointwise = std::vector<double>(8, -1.25);
   const auto path = scratch("fem.h5").string();
   write_result(path, r);
   const RunResult back = read_result(path);
@@ -188,6 +196,7 @@ TEST(ResultFile, AbsentBlocksAreNotWritten) {
   EXPECT_FALSE(back.histogram.has_value());
   EXPECT_FALSE(back.fields.has_value());
   EXPECT_FALSE(back.lid.has_value());
+  ASSERT_TRUE(back.surface->sigma_n_pointwise && back.surface->sigma_t_pointwise);
 }
 
 TEST(ResultFile, NonGrainliftFilesAreInputErrors) {

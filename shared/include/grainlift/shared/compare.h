@@ -20,11 +20,23 @@ struct Comparison {
   double pressure_scale = 0;        ///< Pa, the scale the stress differences are divided by
   std::string pressure_scale_from;  ///< which file / rule gave it
   double sigma_n_l2 = 0, sigma_n_max = 0, sigma_t_l2 = 0, sigma_t_max = 0;  ///< / pressure_scale
+  /// The same L2 and max differences of the symmetric and antisymmetric parts
+  /// (symmetry_split) of the difference B - A, / pressure_scale. The drag comes from the
+  /// symmetric sigma_n and antisymmetric sigma_t, the lift and torque from the other two.
+  double sigma_n_symmetric_l2 = 0, sigma_n_symmetric_max = 0;
+  double sigma_n_antisymmetric_l2 = 0, sigma_n_antisymmetric_max = 0;
+  double sigma_t_symmetric_l2 = 0, sigma_t_symmetric_max = 0;
+  double sigma_t_antisymmetric_l2 = 0, sigma_t_antisymmetric_max = 0;
+  /// (B - A) / sqrt(se_A^2 + se_B^2), the difference in units of the combined standard error
+  /// (se_B = 0 when B has none, e.g. a steady FE solution); absent when A has no standard
+  /// error for the quantity or the combined error is 0.
+  std::optional<double> drag_z, lift_z, torque_z;
 };
 
 /// @brief Compare B against A. B's surface distribution is interpolated (periodic, linear) onto
-/// A's angle grid. The pressure scale is A's geometry.pressure_scale, else B's, else
-/// max |sigma_n| of A.
+/// A's angle grid, the shared grid theta_m on which theta_{M-1-m} = -theta_m, where the
+/// difference is split into its symmetric and antisymmetric parts. The pressure scale is A's
+/// geometry.pressure_scale, else B's, else max |sigma_n| of A.
 Comparison compare_results(const RunResult& a, const RunResult& b);
 
 /// The comparison as a JSON object (numbers; null where a quantity is absent).

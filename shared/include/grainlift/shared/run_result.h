@@ -86,7 +86,10 @@ struct SurfaceDistribution {
   std::vector<double> theta;      ///< rad
   std::vector<double> sigma_n;    ///< Pa, compressive positive
   std::vector<double> sigma_t;    ///< Pa, positive when the medium pulls the surface counter-clockwise
-  double kernel_width_deg = 0;    ///< Gaussian standard deviation; 0 for a pointwise FE trace
+  double kernel_width_deg = 0;    ///< Gaussian standard deviation (deg), output.kernel_width_deg
+  /// The continuum's pointwise trace at theta before the kernel (Pa); absent for the DEM,
+  /// whose surface stress exists only as the kernel average of its contacts.
+  std::optional<std::vector<double>> sigma_n_pointwise, sigma_t_pointwise;
 };
 
 /// Histogram of intruder contacts in equal bins (Kumar 2019 Fig. 6, pi/12 bins), DEM only.
