@@ -106,10 +106,9 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   f.linear_solver = choice<LinearSolver>(
       c.continuum.linear_solver, {{"direct", LinearSolver::direct}, {"amg", LinearSolver::amg}});
   // Surface angles: the shared grid (the pointwise trace), then the oversampled grid the
-  // smoothed trace is computed from (surface_trace_angles), measured from V, turned into lab
-  // angles from +x.
-  const double heading = std::atan2(c.intruder.velocity[1], c.intruder.velocity[0]);
-  for (double t : surface_trace_angles(c.output.angles)) f.surface_theta.push_back(t + heading);
+  // smoothed trace is computed from (surface_trace_angles), measured from V as the engine
+  // takes them (it turns them into lab angles itself).
+  f.surface_theta = surface_trace_angles(c.output.angles);
   const FieldGridLayout grid = field_grid_layout(c);
   f.fields.enabled = grid.enabled;
   f.fields.x0 = grid.x0;

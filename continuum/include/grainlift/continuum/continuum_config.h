@@ -89,7 +89,9 @@ struct ContinuumConfig {
   /// added by the continuum engine (no case key): the Schur approximation of LinearSolver::amg
   SchurApproximation schur_approximation = SchurApproximation::diagonal_a;
   // ---- output
-  std::vector<double> surface_theta;    ///< rad, angles at which sigma_n, sigma_t are sampled
+  /// rad, angles at which sigma_n, sigma_t are sampled, measured from the direction of V,
+  /// counter-clockwise (docs/conventions.md)
+  std::vector<double> surface_theta;
   FieldGridSpec fields;
   std::string vtu_directory;            ///< "" = no VTU output
 };

@@ -1,4 +1,5 @@
-// One source of truth per case key: the key registry (case_keys.cc) holds the only default.
+// What the glues make of a case. One source of truth per case key: the key registry
+// (case_keys.cc) holds the only default.
 // The loader fills every absent key from it, and the glues turn the case into the engines'
 // configurations. An engine configuration's own member defaults (used when an engine is run
 // without a case file, e.g. in its unit tests) must then agree with what a case that leaves
@@ -135,4 +136,22 @@ TEST(KeyDefaults, LoaderFillsTheRegistryDefaults) {
   EXPECT_EQ(grainlift::find_key("output.angles")->default_text, std::to_string(c.output.angles));
   EXPECT_EQ(grainlift::find_key("grains.contact.law")->default_text,
             "\"" + c.grains.contact.law + "\"");
+}
+
+// The continuum engine measures the surface angles from V (CylinderProblem::boundary_outputs
+// adds V's heading itself); the glue hands it the shared grid theta_m = (m + 1/2) 2 pi / M as
+// it is, whatever the direction of V: a case moving along +y gets the same angles, bit for bit,
+// as one moving along +x (before, the glue added the heading too and the traces of a case not
+// moving along +x were rotated twice).
+TEST(ContinuumGlue, SurfaceAnglesAreMeasuredFromV) {
+  namespace gc = grainlift::continuum;
+  const grainlift::Case along_x = minimal_case();
+  grainlift::Case along_y = along_x;
+  along_y.intruder.velocity = {0.0, 0.25};
+  const gc::ContinuumConfig fx = gc::make_continuum_config(along_x, "out");
+  const gc::ContinuumConfig fy = gc::make_continuum_config(along_y, "out");
+  ASSERT_GE(fx.surface_theta.size(), 64u);
+  EXPECT_EQ(fx.surface_theta, fy.surface_theta);
+  const double pi = 3.14159265358979323846;
+  EXPECT_NEAR(fx.surface_theta[0], pi / 64, 1e-15);  // theta_0 = (1/2) 2 pi / M, M = 64
 }
