@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "grainlift/dem/dem_system.h"
+#include "pair_contacts.h"
 
 namespace grainlift::dem {
 
@@ -91,21 +92,14 @@ FarFieldSample far_field_stress(const DemSystem& s, const DemConfig& c,
     return out;
   }
   double wxx = 0, wxy = 0, wyy = 0;  // sum of f (x) l, symmetrised
-  const NeighborList& nl = s.neighbors();
-  for (int i = 0; i < s.grains(); ++i) {
-    for (std::int64_t k = nl.first[i]; k < nl.first[i + 1]; ++k) {
-      if (nl.fx[k] == 0 && nl.fy[k] == 0) continue;
-      const int j = nl.partner[k];
-      double lx = p.x[i] - p.x[j], ly = p.y[i] - p.y[j];
-      box.min_image(lx, ly);
-      double mx = p.x[j] + 0.5 * lx, my = p.y[j] + 0.5 * ly;
-      box.wrap(mx, my);
-      if (!inside(mx, my)) continue;
-      wxx += nl.fx[k] * lx;
-      wyy += nl.fy[k] * ly;
-      wxy += 0.5 * (nl.fx[k] * ly + nl.fy[k] * lx);
-    }
-  }
+  detail::for_each_pair_contact(s, [&](double fx, double fy, double lx, double ly, double mx,
+                                       double my) {
+    box.wrap(mx, my);
+    if (!inside(mx, my)) return;
+    wxx += fx * lx;
+    wyy += fy * ly;
+    wxy += 0.5 * (fx * ly + fy * lx);
+  });
   // kinetic part: velocity fluctuations about the region's mean (mass-weighted)
   double m_sum = 0, mvx = 0, mvy = 0;
   for (int g = 0; g < s.grains(); ++g) {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pair_contacts.h"
+
 namespace grainlift::dem {
 
 FieldAccumulator::FieldAccumulator(const FieldGridSpec& spec) : spec_(spec) {
@@ -77,18 +79,12 @@ void FieldAccumulator::add_snapshot(const DemSystem& s) {
     }
   }
   // contact stress: grain-grain and grain-wall pairs, then grain-intruder contacts
-  const NeighborList& nl = s.neighbors();
-  for (int i = 0; i < s.grains(); ++i) {
-    for (std::int64_t k = nl.first[i]; k < nl.first[i + 1]; ++k) {
-      if (nl.fx[k] == 0 && nl.fy[k] == 0) continue;
-      const int j = nl.partner[k];
-      double lx = p.x[i] - p.x[j], ly = p.y[i] - p.y[j];
-      box.min_image(lx, ly);
-      double mx = p.x[j] + 0.5 * lx - in.x, my = p.y[j] + 0.5 * ly - in.y;
-      box.min_image(mx, my);
-      add_stress(mx, my, nl.fx[k], nl.fy[k], lx, ly);
-    }
-  }
+  detail::for_each_pair_contact(s, [&](double fx, double fy, double lx, double ly, double mx,
+                                       double my) {
+    double rx = mx - in.x, ry = my - in.y;  // the midpoint in the intruder frame
+    box.min_image(rx, ry);
+    add_stress(rx, ry, fx, fy, lx, ly);
+  });
   const IntruderContacts& ic = s.intruder_contacts();
   for (std::size_t c = 0; c < ic.grain.size(); ++c) {
     if (!ic.touching[c]) continue;

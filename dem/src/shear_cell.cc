@@ -11,6 +11,7 @@
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/errors.h"
+#include "message_number.h"
 #include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/system_setup.h"
@@ -22,13 +23,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kLidDampingFraction = 0.1;  // of PressureLid::default_damping (see below)
 
-template <class T>
-std::string str(T v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
+using detail::str;
 
 [[noreturn]] void refuse(const std::string& what) { throw ConfigError("shear cell: " + what); }
 

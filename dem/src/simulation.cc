@@ -13,6 +13,7 @@
 #include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/system_setup.h"
+#include "message_number.h"
 
 namespace grainlift::dem {
 
@@ -22,13 +23,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void refuse(const std::string& what) { throw ConfigError(what); }
 
-template <class T>
-std::string str(T v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
+using detail::str;
 
 double impact_speed(const DemConfig& c) {
   if (c.dt_check_velocity > 0) return c.dt_check_velocity;
