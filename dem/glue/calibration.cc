@@ -58,8 +58,8 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
   }
   if (fit_points.size() < 4)
     throw InputError(fmt::format(
-        "{}: only {} of {} shear-cell points have a linear velocity profile (R^2 >= {}); the "
-        "fit needs 4: give more or other --inertial-numbers",
+        "{}: the mu(I) fit needs at least 4 shear-cell points with a linear velocity profile; "
+        "{} of the {} measured have one (R^2 >= {}): give more or other --inertial-numbers",
         c.source.path, fit_points.size(), cal.points.size(), o.min_profile_r2));
   const DemConfig& g = base.grains;
   cal.law = make_rheology_file(
