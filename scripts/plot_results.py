@@ -25,6 +25,19 @@ def drag_lift(f):
     return -(fx * e[0] + fy * e[1]), fx * (-e[1]) + fy * e[0]
 
 
+def theta_degrees(theta):
+    """Angles of /surface/theta (rad, 0..2 pi) in degrees from V in (-180, 180], and the order
+    that sorts them."""
+    deg = np.degrees(np.where(theta > np.pi, theta - 2 * np.pi, theta))
+    return deg, np.argsort(deg)
+
+
+def field_extent(x, y, D):
+    """imshow extent in units of D of the cell-centred field grid x (nx), y (ny) (m)."""
+    return [(x[0] - (x[1] - x[0]) / 2) / D, (x[-1] + (x[1] - x[0]) / 2) / D,
+            (y[0] - (y[1] - y[0]) / 2) / D, (y[-1] + (y[1] - y[0]) / 2) / D]
+
+
 def plot_forces(f, solver, out):
     if "forces" not in f or len(f["forces/time"]) < 2:
         return None
@@ -56,9 +69,7 @@ def plot_forces(f, solver, out):
 def plot_surface(f, solver, out):
     if "surface" not in f:
         return None
-    th = f["surface/theta"][:]
-    deg = np.degrees(np.where(th > np.pi, th - 2 * np.pi, th))
-    order = np.argsort(deg)
+    deg, order = theta_degrees(f["surface/theta"][:])
     P = f["geometry"].attrs["pressure_scale"] or 1.0
     sn, st = f["surface/sigma_n"][:] / P, f["surface/sigma_t"][:] / P
     if "derived" in f and "sigma_n_symmetric" in f["derived"]:  # schema 2: split by grainlift
@@ -114,8 +125,7 @@ def plot_fields(f, solver, out):
     if not panels:
         return None
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8), squeeze=False)
-    ext = [(x[0] - (x[1] - x[0]) / 2) / D, (x[-1] + (x[1] - x[0]) / 2) / D,
-           (y[0] - (y[1] - y[0]) / 2) / D, (y[-1] + (y[1] - y[0]) / 2) / D]
+    ext = field_extent(x, y, D)
     for ax, name in zip(axes[0], panels):
         data = speed if name == "speed" else g[name][:]
         im = ax.imshow(data, origin="lower", extent=ext, cmap="viridis")

@@ -275,6 +275,12 @@ int main_with_args(int argc, char** argv) {
       ->capture_default_str();
   calibrate->add_flag("--quiet", cal.quiet, "no line per point");
 
+  std::string report_dir;
+  auto* report = app.add_subcommand(
+      "report", "one HTML page on a result folder: DIR/report.html with surface stresses, "
+                "their split, fields and a table of both solvers (scripts/report.py)");
+  report->add_option("DIR", report_dir, "result folder with dem.h5 and/or fem.h5")->required();
+
   bool markdown = false;
   auto* keys = app.add_subcommand("keys", "list every case key with unit, default and range");
   keys->add_flag("--markdown", markdown, "as the Markdown table of docs/case-format.md");
@@ -292,6 +298,7 @@ int main_with_args(int argc, char** argv) {
     if (*compare) return cmd_compare(cmp_a, cmp_b, cmp_json);
     if (*sweep) return cmd_sweep(sweep_args, vary);
     if (*calibrate) return cmd_calibrate(cal);
+    if (*report) return cmd_report(report_dir);
     if (*keys) {
       if (markdown) fmt::print("{}", keys_markdown());
       else

@@ -1,4 +1,4 @@
-// The subcommands of `grainlift` (run, validate, compare, sweep, calibrate, keys).
+// The subcommands of `grainlift` (run, validate, compare, sweep, calibrate, report, keys).
 #pragma once
 
 #include <string>
@@ -21,6 +21,10 @@ struct CalibrateArgs {
 
 /// `grainlift calibrate` (calibrate_command.cc); exit code.
 int cmd_calibrate(const CalibrateArgs& a);
+
+/// `grainlift report DIR` (report_command.cc): runs scripts/report.py on a result folder, which
+/// writes DIR/report.html; exit code. A folder without dem.h5 or fem.h5 is an InputError.
+int cmd_report(const std::string& dir);
 
 /// Parses argv, runs the subcommand, maps errors to exit codes (0, 1 run failed, 2 bad input).
 int main_with_args(int argc, char** argv);

@@ -15,9 +15,11 @@
 #include "grainlift/shared/result_file.h"
 #include "grainlift/shared/rheology_file.h"
 #include "run_command.h"
+#include "tiny_dem_case.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;
+using test_support::tiny_case;
 
 namespace {
 
@@ -26,30 +28,6 @@ int run(const std::string& args, std::string* output = nullptr) {
   if (output) *output = o.output;
   return o.code;
 }
-
-// 20 d x 14 d box at Phi 0.6, 10 d of travel: about a second.
-const char* tiny_case = R"([domain]
-x_range = [-0.2, 0.2]
-y_range = [-0.14, 0.14]
-periodic = [true, false]
-walls = ["bottom", "top"]
-[intruder]
-diameter = 0.1
-velocity = [2.0, 0.0]
-omega = 80.0
-[grains]
-diameter = 0.02
-density = 20.0
-area_fraction = 0.6
-[dem]
-travel = 10.0
-steady_travel = 2.0
-sample_every = 20
-packing_cache = ""
-[output]
-blocks = 5
-field_half_size = [1.0, 1.0]
-)";
 
 fs::path scratch() {
   fs::path d = fs::temp_directory_path() / ("grainlift_e2e_" + std::to_string(::getpid()));
