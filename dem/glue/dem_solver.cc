@@ -171,18 +171,26 @@ RunResult to_result(const Case& c, const DemOutput& out) {
   r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
   // Pressure scale: the lid pressure plus the lithostatic pressure at the intruder (either may
-  // be 0), else the mean drag per unit projected area D / diameter (a measured dynamic pressure).
+  // be 0); without either, the pressure the bed carries away from the intruder (/far_field),
+  // else the mean drag per unit projected area D / diameter (a dynamic pressure).
   const double stated = c.stated_pressure();
-  q.pressure_scale =
-      stated > 0 ? stated : (r.means ? std::abs(r.means->drag) / c.intruder.diameter : 0.0);
+  const bool measured = stated == 0 && r.far_field && r.far_field->mean > 0;
+  std::string source = c.domain.lid_pressure > 0 ? "lid + lithostatic" : "lithostatic";
+  if (stated > 0) {
+    q.pressure_scale = stated;
+  } else if (measured) {
+    q.pressure_scale = r.far_field->mean;
+    source = "far field";
+  } else {
+    q.pressure_scale = r.means ? std::abs(r.means->drag) / c.intruder.diameter : 0.0;
+    source = "drag / D";
+  }
   r.meta.notes = fmt::format(
       "grains {} (walls {}), area fraction {:.4f}, packing {}, collision time {:.3g} s, "
-      "steps {}, pressure_scale {}",
+      "steps {}, pressure_scale from {}",
       out.grains, out.wall_grains, out.achieved_area_fraction,
       out.packing_from_cache ? "reused from cache" : "prepared", out.collision_time, out.steps,
-      stated == 0                   ? "= drag / D"
-      : c.domain.lid_pressure > 0 ? "= lid pressure + lithostatic pressure at the centre"
-                                    : "= lithostatic pressure at the centre");
+      source);
   Diagnostics& diag = r.diagnostics;
   diag.counts = {{"grains", out.grains},
                  {"wall_grains", out.wall_grains},
@@ -194,9 +202,7 @@ RunResult to_result(const Case& c, const DemOutput& out) {
                  {"steady_start_sample", static_cast<long long>(out.steady_start_index)}};
   diag.values = {{"area_fraction", out.achieved_area_fraction},
                  {"collision_time", out.collision_time}};
-  diag.texts = {{"pressure_scale_source", stated == 0                   ? "drag / D"
-                                          : c.domain.lid_pressure > 0 ? "lid + lithostatic"
-                                                                      : "lithostatic"}};
+  diag.texts = {{"pressure_scale_source", source}};
   if (r.lid && !r.lid->y.empty()) {
     diag.values["lid_height_start"] = r.lid->y.front();
     diag.values["lid_height_end"] = r.lid->y.back();
