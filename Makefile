@@ -24,7 +24,8 @@ build: configure
 demo: build
 	$(BUILD)/bin/grainlift run cases/demo/demo.toml --solver $(DEMO_SOLVER) --out out/demo --threads $(JOBS)
 	$(PYTHON) scripts/plot_results.py out/demo
-	@echo "demo results: out/demo/ (summary.json, *.h5 for h5py, *_fields.xmf for ParaView, *.png plots)"
+	$(BUILD)/bin/grainlift report out/demo
+	@echo "demo results: out/demo/ (report.html: DEM and FEM side by side; summary.json, *.h5 for h5py, *_fields.xmf for ParaView, *.png plots)"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)

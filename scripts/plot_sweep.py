@@ -5,6 +5,8 @@
   plot_sweep.py drag-speed OUT.png CSV[:LABEL] ...   drag against V0, log-log, fitted slope
   plot_sweep.py ld-mu     OUT.png  CSV[:LABEL] ...   L/D against mu (saturated spin), with
                                                      L/D = mu and Kumar eq. (15)
+  plot_sweep.py drag-omega OUT.png CSV[:LABEL] ...   drag against spin ratio Omega
+A table of `--solver both` gives one series per solver.
 Error bars are the block-average standard errors (propagated for ratios). Tables given the
 same LABEL (independent seeds) are pooled (ld-omega also prints each bed's L/D and the spread
 across beds). Prints the table it plots, so the numbers can go
@@ -55,6 +57,17 @@ def pooled(specs):
         yield out, f"{label} ({len(tables)} seeds)"
 
 
+def by_solver(series):
+    """Splits each table that holds rows of both solvers into one series per solver."""
+    for rows, label in series:
+        solvers = sorted({r["solver"] for r in rows})
+        if len(solvers) == 1:
+            yield rows, label
+            continue
+        for s in solvers:
+            yield [r for r in rows if r["solver"] == s], f"{label}: {s}"
+
+
 def num(r, key):
     v = r.get(key, "")
     return float(v) if v not in ("", None) else float("nan")
@@ -74,8 +87,17 @@ def main(argv):
         return 2
     mode, out, specs = argv[1], argv[2], argv[3:]
     fig, ax = plt.subplots(figsize=(6, 4.5))
-    for rows, label in pooled(specs):
-        if mode == "ld-omega":
+    for rows, label in by_solver(pooled(specs)):
+        if mode == "drag-omega":
+            x = np.array([num(r, "spin_ratio") for r in rows])
+            y = np.array([num(r, "drag") for r in rows])
+            e = np.array([num(r, "drag_stderr") for r in rows])
+            ax.errorbar(x, y, yerr=e, marker="o", capsize=3, label=label)
+            print(f"# {label}\n# Omega  drag  stderr  torque  stderr")
+            for r, xi, yi, ei in zip(rows, x, y, e):
+                print(f"{xi:8.3f} {yi:10.4g} {ei:10.3g} {num(r,'torque'):10.4g} "
+                      f"{num(r,'torque_stderr'):10.3g}")
+        elif mode == "ld-omega":
             x = np.array([num(r, "spin_ratio") for r in rows])
             y = np.array([num(r, "lift") / num(r, "drag") for r in rows])
             e = np.array([ratio_err(r) for r in rows])
@@ -125,6 +147,10 @@ def main(argv):
                        label=f"Kumar eq. 15, Phi {phi}: L/D = -{kappa * 0.5 - (1 - kappa) / 0.5:.3f}")
         ax.set_xlabel("spin ratio Omega = omega R / V0")
         ax.set_ylabel("L / D  (negative: along -omega x V)")
+    elif mode == "drag-omega":
+        ax.set_xlabel("spin ratio Omega = omega R / V0")
+        ax.set_ylabel("mean drag D (N/m)")
+        ax.set_ylim(bottom=0)
     elif mode == "drag-speed":
         ax.set_xlabel("V0 (m/s)")
         ax.set_ylabel("mean drag D (N/m)")

@@ -7,6 +7,8 @@
 #include "commands.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/rheology_cache.h"
+#include "python_script.h"
 #ifdef GRAINLIFT_HAVE_DEM
 #include "grainlift/dem/calibration.h"
 #endif
@@ -15,7 +17,11 @@ namespace grainlift::app {
 
 int cmd_calibrate(const CalibrateArgs& a) {
 #ifdef GRAINLIFT_HAVE_DEM
-  const Case c = load_case(a.case_path, a.sets);
+  // the case's own continuum law plays no part here, and the file it names may be the one this
+  // calibration is about to write
+  auto sets = a.sets;
+  sets.push_back("continuum.rheology_file=\"\"");
+  const Case c = load_case(a.case_path, sets);
   dem::CalibrationOptions o;
   o.pressure = a.pressure;
   if (!a.inertial_numbers.empty()) o.inertial_numbers = a.inertial_numbers;
@@ -29,6 +35,20 @@ int cmd_calibrate(const CalibrateArgs& a) {
     if (!a.quiet) fmt::print("calibrate: {}\n", line);
   });
   write_rheology_file(out, cal.law);
+  // the cache makes it the continuum's default law for these grains (rheology_cache.h)
+  const double pressure = a.pressure > 0 ? a.pressure : c.continuum_pressure();
+  const std::string cached = rheology_cache_path(c, pressure);
+  if (!cached.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(cached).parent_path(), ec);
+    try {
+      write_rheology_file(cached, cal.law);
+    } catch (const RunError& e) {  // the cache is an optimisation: say so, keep the result
+      fmt::print("calibrate: not cached ({})\n", e.what());
+    }
+  }
+  const std::string png = std::filesystem::path(out).replace_extension(".png").string();
+  const bool plotted = run_python_script("plot_rheology.py", {out, png}) == 0;
   const MuIFit& f = cal.law.mu_i;
   fmt::print("mu(I): mu_s {:.4f} +- {:.4f}, mu_2 {:.4f} +- {:.4f}, I0 {:.4f} +- {:.4f} "
              "(chi2/dof {:.2g}, {} points, I in [{:.3g}, {:.3g}])\n",
@@ -36,9 +56,13 @@ int cmd_calibrate(const CalibrateArgs& a) {
              cal.law.I_min, cal.law.I_max);
   fmt::print("Phi(I) = {:.4f} - {:.4f} I (+- {:.4f}, {:.4f})\n", cal.law.phi_i.phi_max,
              cal.law.phi_i.a, cal.law.phi_i.phi_max_err, cal.law.phi_i.a_err);
-  fmt::print("rheology file: {} (name it in a case: continuum.rheology_file; plot: "
-             "scripts/plot_rheology.py {})\n",
-             out, out);
+  fmt::print("rheology file: {} (name it in a case: continuum.rheology_file)\n", out);
+  if (!cached.empty())
+    fmt::print("cached: {} (runs of cases with these grains at {:g} Pa that state no mu(I) of "
+               "their own use it)\n",
+               cached, pressure);
+  if (plotted) fmt::print("plot: {}\n", png);
+  else fmt::print("plot: not drawn ({} scripts/plot_rheology.py {} failed)\n", python_path(), out);
   return exit_success;
 #else
   (void)a;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -13,6 +14,8 @@
 #include "grainlift/shared/compare.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/result_file.h"
+#include "grainlift/shared/rheology_cache.h"
+#include "grainlift/shared/rheology_file.h"
 
 namespace grainlift::app {
 namespace {
@@ -77,9 +80,23 @@ void print_results(const std::vector<RunResult>& results, const std::string& out
   fmt::print(")\n");
 }
 
+/// The continuum's law when the case states none: the cached calibration of the case's grains
+/// (rheology_cache.h) if there is one; says which law the FEM will use on rank 0.
+void pick_continuum_law(Case& c, const std::vector<SolverEntry>& solvers, bool say) {
+  const bool fem = std::any_of(solvers.begin(), solvers.end(),
+                               [](const SolverEntry& s) { return s.name == "fem"; });
+  if (!fem) return;
+  const std::string note = use_cached_rheology(c);
+  if (say && !note.empty()) {
+    fmt::print("{}\n", note);
+    std::fflush(stdout);  // before the solvers' progress lines on stderr
+  }
+}
+
 int cmd_run(const RunArgs& a) {
-  const Case c = load_case(a.case_path, a.sets);
+  Case c = load_case(a.case_path, a.sets);
   const auto solvers = pick_solvers(a.solver);
+  pick_continuum_law(c, solvers, !a.quiet && process_rank() == 0);
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(a.case_path) : a.out;
   opt.threads = a.threads;
@@ -96,6 +113,13 @@ int cmd_validate(const std::vector<std::string>& files, const std::vector<std::s
   int failures = 0;
   for (const auto& f : files) {
     try {
+      if (is_rheology_file(f)) {
+        const RheologyFile law = read_rheology_file(f);
+        fmt::print("{}: ok (rheology file: mu_s {:.4g}, mu_2 {:.4g}, I0 {:.4g}, I in [{:.3g}, "
+                   "{:.3g}])\n",
+                   f, law.mu_i.mu_s, law.mu_i.mu_2, law.mu_i.I0, law.I_min, law.I_max);
+        continue;
+      }
       load_case(f, sets);
       fmt::print("{}: ok\n", f);
     } catch (const InputError& e) {
@@ -161,6 +185,7 @@ int cmd_sweep(const RunArgs& a, const std::string& vary) {
     cases.push_back(load_case(a.case_path, sets));
   }
   const auto solvers = pick_solvers(a.solver);
+  for (auto& c : cases) pick_continuum_law(c, solvers, !a.quiet && &c == &cases.front());
   const std::string out = a.out.empty() ? default_out_dir(a.case_path) + "-sweep" : a.out;
   make_directories(out);
   std::string csv =

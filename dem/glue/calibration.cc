@@ -31,22 +31,28 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
   std::vector<ShearPoint> fit_points;
   for (const double target : o.inertial_numbers) {
     const auto t0 = std::chrono::steady_clock::now();
+    CalibrationPoint p;
+    p.target_I = target;
     ShearCellResult r;
     try {
       r = run_shear_cell(shear_cell_at(base, target, o.strain_scale));
     } catch (const ConfigError& e) {
       throw InputError(fmt::format("{}: shear cell at I = {}: {}", c.source.path, target, e.what()));
     } catch (const RunFailure& e) {
-      throw RunError(fmt::format("shear cell at I = {}: {}", target, e.what()));
+      p.failure = e.what();
     }
-    CalibrationPoint p;
-    p.target_I = target;
+    p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!p.failure.empty()) {
+      say(fmt::format("I target {:<6g} FAILED, left out of the fit ({:.1f} s): {}", target,
+                      p.wall_seconds, p.failure));
+      cal.points.push_back(p);
+      continue;
+    }
     p.point = {r.inertial_number, r.friction.mean, r.friction.se, r.area_fraction.mean,
                r.area_fraction.se};
     p.steady = r.steady;
     p.profile_r2 = r.profile_r2;
     p.fitted = r.profile_r2 >= o.min_profile_r2 && p.point.mu_stderr > 0 && p.point.phi_stderr > 0;
-    p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     say(fmt::format("I target {:<6g} measured {:.4g}: mu {:.4f} +- {:.4f}, Phi {:.4f} +- {:.4f}, "
                     "profile R^2 {:.3f}{}{} ({:.1f} s)",
                     target, p.point.I, p.point.mu, p.point.mu_stderr, p.point.phi,

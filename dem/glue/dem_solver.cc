@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -15,19 +14,11 @@
 #include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/rheology_cache.h"
 #include "grainlift/shared/surface_stress.h"
 
 namespace grainlift::dem {
 namespace {
-
-std::string packing_cache_dir(const std::string& setting) {
-  if (setting != "auto") return setting;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
-    return std::string(xdg) + "/grainlift/packings";
-  if (const char* home = std::getenv("HOME"); home && *home)
-    return std::string(home) + "/.cache/grainlift/packings";
-  return "";
-}
 
 /// The engine's law for the case's name (the loader accepts only these; anything else is a bug).
 ContactLaw contact_law_of(const std::string& name) {
@@ -263,7 +254,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.field_every = c.dem.field_every;
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
-  d.packing_cache_dir = packing_cache_dir(c.dem.packing_cache);
+  d.packing_cache_dir = cache_folder(c.dem.packing_cache, "packings");
   const FieldGridLayout grid = field_grid_layout(c);
   d.fields.enabled = grid.enabled;
   d.fields.x0 = grid.x0;

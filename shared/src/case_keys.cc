@@ -118,7 +118,8 @@ std::vector<KeySpec> make_keys() {
                    "lid is P0 of both solvers and this key is refused); the DEM bed does not "
                    "have this pressure, and the FEM run warns so"));
   k.push_back(real("continuum.mu_s", false, "0.38", 0, 5, false, false, "-",
-                   "static friction coefficient of mu(I)"));
+                   "static friction coefficient of mu(I) (default: Jop et al. 2006, glass "
+                   "beads)"));
   k.push_back(real("continuum.mu_2", false, "0.64", 0, 5, false, false, "-",
                    "limiting friction coefficient of mu(I) (>= mu_s)"));
   k.push_back(real("continuum.I0", false, "0.279", 0, 10, true, false, "-", "inertial number scale"));
@@ -126,7 +127,8 @@ std::vector<KeySpec> make_keys() {
                      "TOML file of a calibrated mu(I) and Phi(I) (docs/schema.md, rheology "
                      "file; a relative path is taken from the case file's folder): its mu_s, "
                      "mu_2 and I0 replace the three keys above, which must then be absent; "
-                     "\"\" = use those keys"));
+                     "\"\" = use those keys, or, when the case gives none of them, the "
+                     "calibration `grainlift calibrate` cached for its grains at its P0"));
   k.push_back(choice("continuum.regularisation", "\"barker_gray\"",
                      {"chauchat_medale", "barker_gray"}, "viscosity regularisation"));
   k.push_back(real("continuum.delta", false, "1e-3", 0, 1e3, true, false, "1/s",

@@ -383,6 +383,7 @@ void apply_rheology_file(const toml::table& root, const std::string& name, Case&
   c.continuum.rheology_file = file.string();
   try {
     const RheologyFile law = read_rheology_file(file.string());
+    c.continuum.law_source = "rheology file";
     c.continuum.mu_s = law.mu_i.mu_s;
     c.continuum.mu_2 = law.mu_i.mu_2;
     c.continuum.I0 = law.mu_i.I0;
@@ -446,6 +447,9 @@ Case build_case(const toml::table& root) {
   cn.mu_2 = get_real(r, "continuum.mu_2");
   cn.I0 = get_real(r, "continuum.I0");
   cn.rheology_file = get_text(r, "continuum.rheology_file");
+  cn.law_source = "default";
+  for (const char* law_key : {"continuum.mu_s", "continuum.mu_2", "continuum.I0"})
+    if (root.at_path(law_key)) cn.law_source = "case";
   cn.regularisation = get_text(r, "continuum.regularisation");
   cn.delta = get_real(r, "continuum.delta");
   cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN");

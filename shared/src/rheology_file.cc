@@ -336,3 +336,16 @@ RheologyFile read_rheology_file(const std::string& path) {
 }
 
 }  // namespace grainlift
+
+namespace grainlift {
+
+bool is_rheology_file(const std::string& path) {
+  try {
+    const toml::table root = toml::parse_file(path);
+    return root.contains("mu_i") && !root.contains("domain");
+  } catch (const toml::parse_error&) {
+    return false;
+  }
+}
+
+}  // namespace grainlift

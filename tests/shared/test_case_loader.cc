@@ -233,13 +233,17 @@ TEST(CaseLoader, UnreadableFileIsAnInputError) {
 }
 
 TEST(CaseLoader, EveryShippedCaseValidates) {
-  // Physics: none; every case folder the project ships must hold valid cases and a README.
+  // Physics: none; every case folder the project ships must hold valid cases and a README; its
+  // calibrated rheology files (rheology*.toml, named by a case) must read as rheology files.
   int cases = 0;
   for (const auto& dir : std::filesystem::directory_iterator(GRAINLIFT_SOURCE_DIR "/cases")) {
     if (!dir.is_directory()) continue;
     EXPECT_TRUE(std::filesystem::exists(dir.path() / "README.md")) << dir.path();
     for (const auto& f : std::filesystem::directory_iterator(dir.path()))
-      if (f.path().extension() == ".toml") {
+      if (f.path().extension() != ".toml") continue;
+      else if (f.path().filename().string().rfind("rheology", 0) == 0)
+        EXPECT_NO_THROW(read_rheology_file(f.path().string())) << f.path();
+      else {
         EXPECT_NO_THROW(load_case(f.path().string())) << f.path();
         ++cases;
       }

@@ -67,6 +67,10 @@ struct ContinuumSection {
   double ambient_pressure{};  ///< Pa, P0 at the intruder centre on top of the lithostatic part
   double mu_s{}, mu_2{}, I0{};   ///< from rheology_file when it names one
   std::string rheology_file;     ///< "" or the calibrated law's file, resolved from the case's folder
+  /// Where mu_s, mu_2, I0 came from: "case" (the case names them), "rheology file"
+  /// (continuum.rheology_file), "calibration cache" (rheology_cache.h) or "default" (the key
+  /// registry's Jop et al. 2006 glass beads).
+  std::string law_source;
   std::string regularisation;
   double delta{};          ///< 1/s
   double eta_max{};         ///< Pa s

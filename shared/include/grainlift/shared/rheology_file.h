@@ -43,4 +43,8 @@ void write_rheology_file(const std::string& path, const RheologyFile& data);
 /// @throws InputError naming the file, the key and the accepted range (or the TOML error).
 RheologyFile read_rheology_file(const std::string& path);
 
+/// @brief Whether @p path is meant as a rheology file rather than a case: valid TOML with a
+/// [mu_i] table and no [domain] (used by `grainlift validate` to check each kind as its own).
+bool is_rheology_file(const std::string& path);
+
 }  // namespace grainlift

@@ -34,6 +34,9 @@ struct CalibrationPoint {
   bool steady = false;    ///< the two halves of the window agreed
   double profile_r2 = 0;  ///< linearity of the bulk velocity profile
   bool fitted = false;    ///< used in the fit (linear profile)
+  /// Why the cell stopped ("" when it ran): a point the DEM cannot run at this dt (too fast
+  /// for its grains) is reported and left out of the fit, not the end of the calibration.
+  std::string failure;
   double wall_seconds = 0;
 };
 
@@ -45,7 +48,8 @@ struct Calibration {
 /// @brief Run the shear cell on the case's grains (size distribution, density, contact law,
 /// friction, dt, seed, packing cache) at each target I and fit mu(I), Phi(I).
 /// @param say  one line per point (and warnings)
-/// @throws InputError when no pressure is known or too few points have a linear profile.
+/// @throws InputError when no pressure is known or too few points have a linear profile (a
+/// point whose cell fails, e.g. overlaps at a high I, counts as one without).
 Calibration calibrate_rheology(const Case& c, const CalibrationOptions& options,
                                const std::function<void(const std::string&)>& say);
 

@@ -1,0 +1,45 @@
+#include "python_script.h"
+
+#include <fmt/format.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+
+#include "grainlift/shared/errors.h"
+
+#ifndef GRAINLIFT_SCRIPT_DIR
+#error "GRAINLIFT_SCRIPT_DIR (absolute path of scripts/) is set by apps/CMakeLists.txt"
+#endif
+#ifndef GRAINLIFT_PYTHON
+#define GRAINLIFT_PYTHON "/usr/bin/python3"
+#endif
+
+namespace grainlift::app {
+namespace {
+
+/// @p s in single quotes for /bin/sh; a path with a single quote is refused (InputError).
+std::string shell_quoted(const std::string& s) {
+  if (s.find('\'') != std::string::npos)
+    throw InputError(fmt::format("'{}' contains a single quote, which grainlift does not pass to "
+                                 "the shell; rename or link it",
+                                 s));
+  return "'" + s + "'";
+}
+
+}  // namespace
+
+std::string script_path(const std::string& script) {
+  return std::string(GRAINLIFT_SCRIPT_DIR) + "/" + script;
+}
+
+std::string python_path() { return GRAINLIFT_PYTHON; }
+
+int run_python_script(const std::string& script, const std::vector<std::string>& args) {
+  std::string command = shell_quoted(python_path()) + " " + shell_quoted(script_path(script));
+  for (const auto& a : args) command += " " + shell_quoted(a);
+  const int status = std::system(command.c_str());
+  if (status == -1) return 127;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace grainlift::app
