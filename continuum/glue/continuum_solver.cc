@@ -213,7 +213,8 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   if (cfg.linearised_gravity) d.values["correction_seconds"] = out.correction_seconds;
   d.texts = {{"linear_solver", c.continuum.linear_solver},
              {"law", c.continuum.regularisation},
-             {"pressure_source", pressure_source(c)}};
+             {"pressure_source", pressure_source(c)},
+             {"rheology_source", c.continuum.law_source}};
   if (!c.continuum.rheology_file.empty()) d.texts["rheology_file"] = c.continuum.rheology_file;
   d.series["residual_history"] = out.residual_history;
   d.series["residual_stage"].assign(out.residual_stage.begin(), out.residual_stage.end());
