@@ -6,7 +6,8 @@
   plot_sweep.py ld-mu     OUT.png  CSV[:LABEL] ...   L/D against mu (saturated spin), with
                                                      L/D = mu and Kumar eq. (15)
   plot_sweep.py drag-omega OUT.png CSV[:LABEL] ...   drag against spin ratio Omega
-A table of `--solver both` gives one series per solver.
+A table of `--solver both` gives one series per solver; CSV#dem or CSV#fem keeps one solver's
+rows.
 Error bars are the block-average standard errors (propagated for ratios). Tables given the
 same LABEL (independent seeds) are pooled (ld-omega also prints each bed's L/D and the spread
 across beds). Prints the table it plots, so the numbers can go
@@ -29,7 +30,8 @@ def first_number(text):
 
 def read(spec):
     path, _, label = spec.partition(":")
-    rows = [r for r in csv.DictReader(open(path)) if r["solver"] == "dem" or r["solver"] == "fem"]
+    path, _, only = path.partition("#")
+    rows = [r for r in csv.DictReader(open(path)) if r["solver"] in ((only,) if only else ("dem", "fem"))]
     return rows, label or path
 
 

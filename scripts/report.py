@@ -175,6 +175,8 @@ def plot_fields(runs, out):
 def fmt(v, digits=6):
     if v is None:
         return "–"
+    if isinstance(v, str):
+        return v
     if isinstance(v, (int, np.integer)):
         return str(int(v))
     v = float(v)
@@ -193,8 +195,19 @@ def solver_rows(runs):
         return {s: (fn(r) if r else NOT_RUN) for s, r in runs.items()}
 
     def mean(key, unit):
-        return cell(lambda r: (with_se(r["means"].get(key), r["means"].get(key + "_stderr"))
-                               + f" {unit}") if key in r["means"] else "–")
+        def one(r):
+            if key not in r["means"]:
+                return "–"
+            se = r["means"].get(key + "_stderr")
+            if se is not None:
+                return with_se(r["means"][key], se) + f" {unit} (standard error)"
+            if key + "_mesh_error" in r["diag"]:  # a FE solution: its change from a coarser mesh
+                return (with_se(r["means"][key], r["diag"][key + "_mesh_error"]) + f" {unit} "
+                        f"(mesh-error estimate: refinement "
+                        f"{fmt(r['diag'].get('coarser_refinement'))} gave "
+                        f"{fmt(r['diag'].get(key + '_coarser'))})")
+            return fmt(r["means"][key]) + f" {unit}"
+        return cell(one)
 
     rows = [("drag D", mean("drag", "N/m")), ("lift L", mean("lift", "N/m")),
             ("torque", mean("torque", "N")),
@@ -235,9 +248,10 @@ def s_of(runs, r):
 COMPARE_KEYS = (
     ("drag_rel", "drag (B - A)/|A|"), ("lift_rel", "lift (B - A)/|A|"),
     ("torque_rel", "torque (B - A)/|A|"),
-    ("drag_z", "drag difference / combined standard error"),
-    ("lift_z", "lift difference / combined standard error"),
-    ("torque_z", "torque difference / combined standard error"),
+    ("drag_z", "drag difference / combined error"),
+    ("lift_z", "lift difference / combined error"),
+    ("torque_z", "torque difference / combined error"),
+    ("error_kind_a", "error of A"), ("error_kind_b", "error of B"),
     ("pressure_scale", "P used for the stress differences (Pa)"),
     ("sigma_n_l2", "sigma_n: rms |B - A| / P"), ("sigma_n_max", "sigma_n: max |B - A| / P"),
     ("sigma_t_l2", "sigma_t: rms |B - A| / P"), ("sigma_t_max", "sigma_t: max |B - A| / P"))

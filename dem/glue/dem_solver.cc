@@ -37,6 +37,41 @@ void steady_mean(const std::vector<double>& steady, int blocks, double& mean,
   if (std::isfinite(b.stderr_)) stderr_ = b.stderr_;
 }
 
+/// The per-angle standard errors of the surface stresses: the profile of each block of the
+/// averaged samples (the blocks of block_mean: B blocks of n / B samples, the first n mod B
+/// samples left out), then block_mean over the B values at each angle.
+void add_surface_stderr(const Case& c, const DemOutput& out, double heading,
+                        SurfaceDistribution& s) {
+  const std::size_t n = out.samples.size() - out.steady_start_index;
+  const std::size_t B = std::min<std::size_t>(std::size_t(c.output.blocks), n);
+  if (B < 2) return;
+  const std::size_t len = n / B, first = out.steady_start_index + (n - len * B);
+  std::vector<SurfaceStressEstimator> blocks(
+      B, SurfaceStressEstimator(c.output.angles, c.output.kernel_width_deg, c.intruder.diameter));
+  std::size_t k = 0;
+  while (k < out.contacts.size() && std::size_t(out.contacts[k].sample) < first) ++k;
+  for (std::size_t i = first; i < out.samples.size(); ++i) {
+    SurfaceStressEstimator& e = blocks[(i - first) / len];
+    for (; k < out.contacts.size() && std::size_t(out.contacts[k].sample) == i; ++k) {
+      const auto& ct = out.contacts[k];
+      e.add(wrap_angle(ct.theta - heading), ct.fn, ct.ft);
+    }
+    e.end_frame();
+  }
+  std::vector<SurfaceDistribution> profiles;
+  for (const auto& e : blocks) profiles.push_back(e.result());
+  const std::size_t M = s.theta.size();
+  std::vector<double> se_n(M), se_t(M), values(B);
+  for (std::size_t m = 0; m < M; ++m) {
+    for (std::size_t b = 0; b < B; ++b) values[b] = profiles[b].sigma_n[m];
+    se_n[m] = block_mean(values, B).stderr_;
+    for (std::size_t b = 0; b < B; ++b) values[b] = profiles[b].sigma_t[m];
+    se_t[m] = block_mean(values, B).stderr_;
+  }
+  s.sigma_n_stderr = std::move(se_n);
+  s.sigma_t_stderr = std::move(se_t);
+}
+
 RunResult to_result(const Case& c, const DemOutput& out) {
   RunResult r;
   const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
@@ -97,6 +132,7 @@ RunResult to_result(const Case& c, const DemOutput& out) {
     }
     r.surface = kernel.result();
     r.histogram = hist.result();
+    add_surface_stderr(c, out, heading, *r.surface);
   }
 
   if (out.fields.nx > 0 && out.fields.snapshots > 0) {

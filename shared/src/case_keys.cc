@@ -163,6 +163,11 @@ std::vector<KeySpec> make_keys() {
                       "of the cells with the largest Kelly indicator of the velocity (level "
                       "jumps of at most one across faces and vertices; the same mesh on one "
                       "and on N MPI ranks)"));
+  k.push_back(boolean("continuum.mesh_error_estimate", "true",
+                      "solve the next coarser level (refinement - 1) first and write its forces "
+                      "and their difference to the requested level as the mesh-error estimate "
+                      "(/diagnostics *_mesh_error; compare and report combine it with the "
+                      "DEM's standard error); not with adaptive_cycles or at refinement 0"));
   k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));

@@ -462,6 +462,7 @@ Case build_case(const toml::table& root) {
   cn.box_half_size = get_vec2(r, "continuum.box_half_size");
   cn.refinement = int(get_int(r, "continuum.refinement"));
   cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
+  cn.mesh_error_estimate = get_bool(r, "continuum.mesh_error_estimate");
   cn.tolerance = get_real(r, "continuum.tolerance");
   cn.max_iterations = int(get_int(r, "continuum.max_iterations"));
   cn.picard_iterations = int(get_int(r, "continuum.picard_iterations"));

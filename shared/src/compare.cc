@@ -36,11 +36,11 @@ double interpolate(const std::vector<double>& theta, const std::vector<double>& 
   return (1 - w) * v[lo] + w * v[hi];
 }
 
-/// (b - a) / sqrt(se_a^2 + se_b^2); absent without se_a or when the combined error is 0.
+/// (b - a) / sqrt(err_a^2 + err_b^2); absent without either error or when their sum is 0.
 std::optional<double> in_error_units(double a, double b, const std::optional<double>& se_a,
                                      const std::optional<double>& se_b) {
-  if (!se_a) return std::nullopt;
-  const double se = std::hypot(*se_a, se_b.value_or(0.0));
+  if (!se_a && !se_b) return std::nullopt;
+  const double se = std::hypot(se_a.value_or(0.0), se_b.value_or(0.0));
   if (!(se > 0)) return std::nullopt;
   return (b - a) / se;
 }
@@ -66,6 +66,22 @@ void split_norms(const std::vector<double>& d, double P, double& l2, double& max
   norms(anti, P, anti_l2, anti_max);
 }
 
+/// A result's error of @p name ("drag", "lift", "torque"): the standard error of its mean, else
+/// the mesh-error estimate its /diagnostics carries.
+std::optional<double> error_of(const RunResult& r, const std::string& name,
+                               const std::optional<double>& stderr_of_mean) {
+  if (stderr_of_mean) return stderr_of_mean;
+  const auto it = r.diagnostics.values.find(name + "_mesh_error");
+  if (it != r.diagnostics.values.end()) return it->second;
+  return std::nullopt;
+}
+
+std::string error_kind(const RunResult& r) {
+  if (r.means && (r.means->drag_stderr || r.means->lift_stderr)) return "standard error";
+  if (r.diagnostics.values.count("drag_mesh_error")) return "mesh-error estimate";
+  return "none";
+}
+
 }  // namespace
 
 Comparison compare_results(const RunResult& a, const RunResult& b) {
@@ -83,10 +99,17 @@ Comparison compare_results(const RunResult& a, const RunResult& b) {
     c.drag_rel = relative(c.drag_a, c.drag_b);
     c.lift_rel = relative(c.lift_a, c.lift_b);
     c.torque_rel = relative(c.torque_a, c.torque_b);
-    c.drag_z = in_error_units(c.drag_a, c.drag_b, a.means->drag_stderr, b.means->drag_stderr);
-    c.lift_z = in_error_units(c.lift_a, c.lift_b, a.means->lift_stderr, b.means->lift_stderr);
-    c.torque_z =
-        in_error_units(c.torque_a, c.torque_b, a.means->torque_stderr, b.means->torque_stderr);
+    c.drag_err_a = error_of(a, "drag", a.means->drag_stderr);
+    c.drag_err_b = error_of(b, "drag", b.means->drag_stderr);
+    c.lift_err_a = error_of(a, "lift", a.means->lift_stderr);
+    c.lift_err_b = error_of(b, "lift", b.means->lift_stderr);
+    c.torque_err_a = error_of(a, "torque", a.means->torque_stderr);
+    c.torque_err_b = error_of(b, "torque", b.means->torque_stderr);
+    c.error_kind_a = error_kind(a);
+    c.error_kind_b = error_kind(b);
+    c.drag_z = in_error_units(c.drag_a, c.drag_b, c.drag_err_a, c.drag_err_b);
+    c.lift_z = in_error_units(c.lift_a, c.lift_b, c.lift_err_a, c.lift_err_b);
+    c.torque_z = in_error_units(c.torque_a, c.torque_b, c.torque_err_a, c.torque_err_b);
   }
   if (a.surface && b.surface && !a.surface->theta.empty() && !b.surface->theta.empty()) {
     c.have_surface = true;
@@ -132,6 +155,14 @@ JsonObject comparison_object(const Comparison& c) {
     o.add("drag_z", c.drag_z);
     o.add("lift_z", c.lift_z);
     o.add("torque_z", c.torque_z);
+    o.add("drag_err_a", c.drag_err_a);
+    o.add("drag_err_b", c.drag_err_b);
+    o.add("lift_err_a", c.lift_err_a);
+    o.add("lift_err_b", c.lift_err_b);
+    o.add("torque_err_a", c.torque_err_a);
+    o.add("torque_err_b", c.torque_err_b);
+    o.add("error_kind_a", c.error_kind_a);
+    o.add("error_kind_b", c.error_kind_b);
   }
   if (c.have_surface) {
     o.add("pressure_scale", c.pressure_scale);
@@ -172,7 +203,8 @@ std::string comparison_text(const Comparison& c) {
     s += fmt::format("  torque  A {:.6g}  B {:.6g}  (B-A)/|A| {}{}\n", c.torque_a, c.torque_b,
                      rel(c.torque_rel), z(c.torque_z));
     if (c.drag_z || c.lift_z || c.torque_z)
-      s += "  (se: the combined standard error sqrt(se_A^2 + se_B^2))\n";
+      s += fmt::format("  (se: the combined error sqrt(err_A^2 + err_B^2); A: {}, B: {})\n",
+                       c.error_kind_a, c.error_kind_b);
   } else {
     s += "  no mean forces in one of the files\n";
   }

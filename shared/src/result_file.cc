@@ -202,6 +202,8 @@ void write_body(hid_t file, const RunResult& r) {
     attr_number(g, "kernel_width_deg", s.kernel_width_deg);
     if (s.sigma_n_pointwise) dataset_doubles(g, "sigma_n_pointwise", *s.sigma_n_pointwise, "Pa");
     if (s.sigma_t_pointwise) dataset_doubles(g, "sigma_t_pointwise", *s.sigma_t_pointwise, "Pa");
+    if (s.sigma_n_stderr) dataset_doubles(g, "sigma_n_stderr", *s.sigma_n_stderr, "Pa");
+    if (s.sigma_t_stderr) dataset_doubles(g, "sigma_t_stderr", *s.sigma_t_stderr, "Pa");
   }
   if (r.histogram) {
     const SurfaceHistogram& h = *r.histogram;
@@ -445,6 +447,8 @@ RunResult read_body(hid_t file) {
     s.kernel_width_deg = read_attr_double(g, "kernel_width_deg");
     if (exists(g, "sigma_n_pointwise")) s.sigma_n_pointwise = read_doubles(g, "sigma_n_pointwise");
     if (exists(g, "sigma_t_pointwise")) s.sigma_t_pointwise = read_doubles(g, "sigma_t_pointwise");
+    if (exists(g, "sigma_n_stderr")) s.sigma_n_stderr = read_doubles(g, "sigma_n_stderr");
+    if (exists(g, "sigma_t_stderr")) s.sigma_t_stderr = read_doubles(g, "sigma_t_stderr");
     r.surface = std::move(s);
   }
   if (exists(file, "histogram")) {

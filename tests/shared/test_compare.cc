@@ -117,9 +117,11 @@ TEST(Compare, DifferencesInUnitsOfTheCombinedStandardError) {
   b.means->drag_stderr = 0.12;
   c = compare_results(a, b);
   EXPECT_NEAR(*c.drag_z, 0.2 / 0.13, 1e-12);
-  // Without A's errors there is no error scale: absent, also in the JSON (null).
-  const Comparison none = compare_results(make(2.0, -0.4, 0.08, 0, 0, 64), b);
+  // Without an error on either side there is no error scale: absent, also in the JSON (null).
+  const Comparison none =
+      compare_results(make(2.0, -0.4, 0.08, 0, 0, 64), make(2.2, -0.2, 0.1, 0, 0, 64));
   EXPECT_FALSE(none.drag_z || none.lift_z || none.torque_z);
+  EXPECT_EQ(none.error_kind_a, "none");
   const std::string json = comparison_json(c);
   for (const char* key : {"\"drag_z\"", "\"torque_z\":null", "\"sigma_n_symmetric_l2\"",
                           "\"sigma_t_antisymmetric_max\"", "\"drag_rel\"", "\"sigma_n_l2\""})
@@ -127,4 +129,29 @@ TEST(Compare, DifferencesInUnitsOfTheCombinedStandardError) {
   const std::string text = comparison_text(c);
   EXPECT_NE(text.find("(B-A)/se +1.54"), std::string::npos) << text;
   EXPECT_NE(text.find("sigma_n symmetric: L2"), std::string::npos) << text;
+}
+
+TEST(Compare, TheFemMeshErrorEstimateJoinsTheCombinedError) {
+  // A (DEM) drag 2.0 +- 0.05, lift -0.4 +- 0.1; B a steady FE solution whose /diagnostics
+  // carry the change from the next coarser level, drag 0.12 and lift 0 (a mesh-converged lift):
+  // the drag difference 0.2 is in units of sqrt(0.05^2 + 0.12^2) = 0.13, the lift's 0.2 in
+  // units of 0.1 alone; the torque (no error on A, and B's estimate 0.3) in units of 0.3. The
+  // JSON says which kind of error each side has. All to 1e-12.
+  RunResult a = make(2.0, -0.4, 0.08, 0, 0, 64), b = make(2.2, -0.2, 0.1, 0, 0, 64);
+  a.means->drag_stderr = 0.05;
+  a.means->lift_stderr = 0.1;
+  a.means->torque = 1.0;
+  b.means->torque = 1.6;
+  b.diagnostics.values = {{"drag_mesh_error", 0.12}, {"lift_mesh_error", 0.0},
+                          {"torque_mesh_error", 0.3}};
+  const Comparison c = compare_results(a, b);
+  ASSERT_TRUE(c.drag_z && c.lift_z && c.torque_z);
+  EXPECT_NEAR(*c.drag_z, 0.2 / 0.13, 1e-12);
+  EXPECT_NEAR(*c.lift_z, 2.0, 1e-12);
+  EXPECT_NEAR(*c.torque_z, 2.0, 1e-12);
+  EXPECT_EQ(c.error_kind_a, "standard error");
+  EXPECT_EQ(c.error_kind_b, "mesh-error estimate");
+  const std::string json = comparison_json(c);
+  for (const char* key : {"\"drag_err_b\":0.12", "\"error_kind_b\":\"mesh-error estimate\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key << " in " << json;
 }

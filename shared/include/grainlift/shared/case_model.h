@@ -83,6 +83,7 @@ struct ContinuumSection {
   Vec2 box_half_size{};     ///< m; 0 = from the domain
   int refinement{};
   int adaptive_cycles{};
+  bool mesh_error_estimate{};   ///< solve refinement - 1 first: the forces' mesh-error estimate
   double tolerance{};
   int max_iterations{};
   int picard_iterations{};

@@ -27,9 +27,14 @@ struct Comparison {
   double sigma_n_antisymmetric_l2 = 0, sigma_n_antisymmetric_max = 0;
   double sigma_t_symmetric_l2 = 0, sigma_t_symmetric_max = 0;
   double sigma_t_antisymmetric_l2 = 0, sigma_t_antisymmetric_max = 0;
-  /// (B - A) / sqrt(se_A^2 + se_B^2), the difference in units of the combined standard error
-  /// (se_B = 0 when B has none, e.g. a steady FE solution); absent when A has no standard
-  /// error for the quantity or the combined error is 0.
+  /// The error of each side's drag, lift, torque: its standard error (a DEM's block average),
+  /// else its mesh-error estimate (a FEM's /diagnostics *_mesh_error: the change from the next
+  /// coarser level); absent when the file has neither.
+  std::optional<double> drag_err_a, drag_err_b, lift_err_a, lift_err_b, torque_err_a,
+      torque_err_b;
+  std::string error_kind_a, error_kind_b;  ///< "standard error", "mesh-error estimate" or "none"
+  /// (B - A) / sqrt(err_A^2 + err_B^2), the difference in units of the combined error (a
+  /// missing error counts 0); absent when neither side has an error or the combined error is 0.
   std::optional<double> drag_z, lift_z, torque_z;
 };
 

@@ -90,6 +90,9 @@ struct SurfaceDistribution {
   /// The continuum's pointwise trace at theta before the kernel (Pa); absent for the DEM,
   /// whose surface stress exists only as the kernel average of its contacts.
   std::optional<std::vector<double>> sigma_n_pointwise, sigma_t_pointwise;
+  /// Pa, DEM: the standard error of sigma_n, sigma_t at each angle, from the profiles of the
+  /// same blocks as the forces' standard errors (block_mean over the blocks' values).
+  std::optional<std::vector<double>> sigma_n_stderr, sigma_t_stderr;
 };
 
 /// Histogram of intruder contacts in equal bins (Kumar 2019 Fig. 6, pi/12 bins), DEM only.
