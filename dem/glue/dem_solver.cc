@@ -260,6 +260,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.wall_left = c.domain.wall_left;
   d.wall_right = c.domain.wall_right;
   d.lid_pressure = c.domain.lid_pressure;  // Pa in the 2D reading = N/m of the engine's forces
+  d.lid_free_disks = c.domain.lid == "free_disks";
   d.gravity = c.scene.gravity;
   d.grain_diameter = c.grains.diameter;
   d.polydispersity = c.grains.polydispersity;

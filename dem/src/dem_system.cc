@@ -133,8 +133,36 @@ void DemSystem::move_frozen(int begin, int end, double dx, double dy, double vx,
   growth_since_build_ += std::hypot(dx, dy);
 }
 
+void DemSystem::move_frozen_each(int begin, int end, double dx, const std::vector<double>& dy,
+                                 double vx, const std::vector<double>& vy) {
+  double largest = 0;
+  for (int j = begin; j < end; ++j) {
+    const std::size_t k = std::size_t(j - begin);
+    p_.x[j] += dx;
+    p_.y[j] += dy[k];
+    opt_.box.wrap(p_.x[j], p_.y[j]);
+    p_.vx[j] = vx;
+    p_.vy[j] = vy[k];
+    largest = std::max(largest, std::abs(dy[k]));
+  }
+  growth_since_build_ += std::hypot(dx, largest);  // the bound of move_frozen, per disk
+}
+
 void DemSystem::step_boundaries() {
   if (!lid_) return;
+  if (lid_->free_disks()) {
+    lid_force_y_.resize(std::size_t(lid_->disks()));
+    double fx = 0;
+    for (int j = lid_->begin(); j < lid_->end(); ++j) {
+      const std::array<double, 2> f = frozen_force(j, j + 1);
+      fx += f[0];
+      lid_force_y_[std::size_t(j - lid_->begin())] = f[1];
+    }
+    const LidMove m = lid_->advance_disks(fx, lid_force_y_, opt_.dt, lid_dy_);
+    move_frozen_each(lid_->begin(), lid_->end(), m.dx, lid_dy_, lid_->shear_velocity(),
+                     lid_->disk_velocity());
+    return;
+  }
   const std::array<double, 2> f = frozen_force(lid_->begin(), lid_->end());
   const LidMove m = lid_->advance(f[0], f[1], opt_.dt);
   move_frozen(lid_->begin(), lid_->end(), m.dx, m.dy, lid_->shear_velocity(), lid_->state().velocity);

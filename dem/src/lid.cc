@@ -50,19 +50,54 @@ PressureLid::PressureLid(const DemConfig& c, const DemSystem& s, double shear_ve
   mass_ = c.lid_mass > 0 ? c.lid_mass : default_mass(grain_mass);
   damping_ = c.lid_damping > 0 ? c.lid_damping : default_damping(c, mass_);
   state_.y = y_top;
+  free_disks_ = c.lid_free_disks;
+  if (free_disks_) {
+    disk_y_.assign(std::size_t(disks()), y_top);
+    disk_velocity_.assign(std::size_t(disks()), 0.0);
+  }
 }
 
-LidMove PressureLid::advance(double force_x, double force_y, double dt) {
-  const double f = force_y;
-  const double v = (state_.velocity + dt * (f - force_target_) / mass_) / (1.0 + damping_ * dt / mass_);
-  const LidMove move{shear_velocity_ * dt, dt * v};
-  state_.velocity = v;
-  state_.y += move.dy;
+namespace {
+/// One damped step of m dv/dt = f - target - c v (symplectic Euler, damping implicit).
+double damped_velocity(double v, double f, double target, double m, double c, double dt) {
+  return (v + dt * (f - target) / m) / (1.0 + c * dt / m);
+}
+}  // namespace
+
+LidMove PressureLid::record(double force_x, double force_y, double dt, double velocity, double y) {
+  const LidMove move{shear_velocity_ * dt, y - state_.y};
+  state_.velocity = velocity;
+  state_.y = y;
   state_.x_shift += move.dx;
-  state_.pressure = f / width_;
+  state_.pressure = force_y / width_;
   state_.shear_stress = force_x / width_;
   state_.impulse_x += force_x * dt;
   state_.impulse_y += force_y * dt;
+  return move;
+}
+
+LidMove PressureLid::advance_disks(double force_x, const std::vector<double>& force_y,
+                                   double dt, std::vector<double>& dy) {
+  const std::size_t n = disk_y_.size();
+  if (force_y.size() != n) throw ConfigError("advance_disks: one force per lid disk");
+  const double m = mass_ / double(n), c = damping_ / double(n), target = force_target_ / double(n);
+  dy.resize(n);
+  double f_total = 0, y_sum = 0, v_sum = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    disk_velocity_[k] = damped_velocity(disk_velocity_[k], force_y[k], target, m, c, dt);
+    dy[k] = dt * disk_velocity_[k];
+    disk_y_[k] += dy[k];
+    f_total += force_y[k];
+    y_sum += disk_y_[k];
+    v_sum += disk_velocity_[k];
+  }
+  return record(force_x, f_total, dt, v_sum / double(n), y_sum / double(n));
+}
+
+LidMove PressureLid::advance(double force_x, double force_y, double dt) {
+  const double v = damped_velocity(state_.velocity, force_y, force_target_, mass_, damping_, dt);
+  LidMove move = record(force_x, force_y, dt, v, state_.y + dt * v);
+  move.dy = dt * v;  // exactly, not through the difference of heights
   return move;
 }
 

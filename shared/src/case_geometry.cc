@@ -44,6 +44,8 @@ Geometry case_geometry(const Case& c) {
   q.gravity_x = c.scene.gravity[0];
   q.gravity_y = c.scene.gravity[1];
   q.bulk_density = c.bulk_density();
+  q.reference_gravity = c.reference_gravity();
+  q.equivalent_depth = c.equivalent_depth();
   return q;
 }
 

@@ -38,6 +38,17 @@ std::vector<KeySpec> make_keys() {
   // [scene]
   k.push_back(vec2("scene.gravity", false, "[0.0, 0.0]", -1e3, 1e3, "m/s^2",
                    "gravitational acceleration [gx, gy]"));
+  k.push_back(choice("scene.depth_mode", "\"box\"", {"box", "free_surface", "heavy_lid", "lid_only"},
+                     "how the intruder's depth is made (Guillard et al. 2014, Sec. II; "
+                     "docs/dem-model.md, \"Depth modes\"): box = as the domain and "
+                     "domain.lid_pressure say; free_surface = gravity, no lid, the top of the "
+                     "box set to intruder.position[1] + scene.depth; heavy_lid = gravity and a "
+                     "lid on the top wall whose pressure makes the equivalent depth "
+                     "scene.depth; lid_only = the same lid pressure rho |g| scene.depth with "
+                     "gravity on the lid only (the grains feel none: P0 with no gradient)"));
+  k.push_back(real("scene.depth", false, "0.0", 0, 1e4, false, false, "m",
+                   "equivalent depth h of the intruder centre, P0 = rho |g| h with rho = Phi "
+                   "rho_s (needed, > 0, by every scene.depth_mode but box)"));
   // [domain]
   k.push_back(vec2("domain.x_range", true, "", -1e4, 1e4, "m", "[xmin, xmax] of the box"));
   k.push_back(vec2("domain.y_range", true, "", -1e4, 1e4, "m", "[ymin, ymax] of the box"));
@@ -52,6 +63,11 @@ std::vector<KeySpec> make_keys() {
                    "grains.density: force per unit depth per unit lid length, N/m per m; "
                    "rho g h with rho = Phi rho_s gives the lithostatic value); 0 = fixed top "
                    "wall; > 0 needs the \"top\" wall and domain.periodic[1] = false"));
+  k.push_back(choice("domain.lid", "\"rigid\"", {"rigid", "free_disks"},
+                     "DEM, with a lid pressure: rigid = the top wall moves as one body; "
+                     "free_disks = each of its disks rises and sinks on its own under its share "
+                     "of the load (Guillard et al. 2014's heavy lid of free-to-rise disks; "
+                     "docs/dem-model.md)"));
   // [intruder]
   k.push_back(real("intruder.diameter", true, "", 0, 1e3, true, false, "m", "intruder diameter D"));
   k.push_back(vec2("intruder.position", false, "[0.0, 0.0]", -1e4, 1e4, "m",

@@ -392,10 +392,78 @@ void apply_rheology_file(const toml::table& root, const std::string& name, Case&
   }
 }
 
+/// Guillard et al. (2014)'s three ways of putting the intruder at depth h (scene.depth_mode;
+/// docs/dem-model.md, "Depth modes"): derives the top of the box (free_surface), the lid pressure
+/// (heavy_lid, lid_only) and the grains' gravity (lid_only) from scene.depth.
+void apply_depth_mode(const toml::table& root, Case& c, Diagnostics& diag) {
+  auto where = [&](const std::string& path) { return diag.where(path, root.at_path(path).node()); };
+  auto& s = c.scene;
+  if (s.depth_mode == "box") {
+    if (s.depth > 0)
+      diag.error(where("scene.depth"),
+                 fmt::format("scene.depth = {} m needs scene.depth_mode = \"free_surface\", "
+                             "\"heavy_lid\" or \"lid_only\" (in \"box\" mode the domain sets "
+                             "the depth)",
+                             s.depth));
+    return;
+  }
+  const std::string mode = fmt::format("scene.depth_mode = \"{}\"", s.depth_mode);
+  if (!(s.depth > 0))
+    diag.error(where("scene.depth_mode"),
+               fmt::format("{} needs scene.depth > 0 (m, the equivalent depth of the intruder "
+                           "centre)",
+                           mode));
+  if (root.at_path("domain.lid_pressure"))
+    diag.error(where("domain.lid_pressure"),
+               fmt::format("{} derives domain.lid_pressure from scene.depth: remove it", mode));
+  if (c.continuum.ambient_pressure > 0)
+    diag.error(where("continuum.ambient_pressure"),
+               fmt::format("{} sets the pressure from scene.depth: remove "
+                           "continuum.ambient_pressure",
+                           mode));
+  const double g = std::hypot(s.gravity[0], s.gravity[1]);
+  if (!(g > 0) || s.gravity[0] != 0 || !(s.gravity[1] < 0))
+    diag.error(where("scene.gravity"),
+               fmt::format("{} needs gravity along -y, scene.gravity = [0.0, -g] with g > 0 "
+                           "(lid_only: the g of the lid); got [{}, {}]",
+                           mode, s.gravity[0], s.gravity[1]));
+  const bool lid = s.depth_mode != "free_surface";
+  if (lid && !c.domain.wall_top)
+    diag.error(where("domain.walls"),
+               fmt::format("{} needs the \"top\" wall in domain.walls: it becomes the lid", mode));
+  if (!lid && c.domain.wall_top)
+    diag.error(where("domain.walls"),
+               fmt::format("{}: a free surface has no top wall; remove \"top\" from domain.walls",
+                           mode));
+  if (!diag.empty()) return;
+
+  const double rho = c.bulk_density(), yc = c.intruder.position[1];
+  auto& d = c.domain;
+  if (s.depth_mode == "free_surface") {
+    d.y_range[1] = yc + s.depth;  // the bed fills the box: its top is the free surface
+  } else if (s.depth_mode == "heavy_lid") {
+    // The real bed above the centre weighs rho g (ymax - yc); the lid adds the rest of h.
+    const double real = d.y_range[1] - yc;
+    if (!(s.depth > real * (1 + 1e-9)))
+      diag.error(where("scene.depth"),
+                 fmt::format("scene.depth = {} m must exceed the real depth of the bed above the "
+                             "intruder, domain.y_range[1] - intruder.position[1] = {} m (the lid "
+                             "adds the rest); lower the top of the box or use \"free_surface\"",
+                             s.depth, real));
+    d.lid_pressure = rho * g * (s.depth - real);
+  } else {  // lid_only: the same P0 with no gradient
+    d.lid_pressure = rho * g * s.depth;
+    s.lid_gravity = g;
+    s.gravity = {0.0, 0.0};
+  }
+}
+
 Case build_case(const toml::table& root) {
   const toml::table r = with_defaults(root);
   Case c;
   c.scene.gravity = get_vec2(r, "scene.gravity");
+  c.scene.depth_mode = get_text(r, "scene.depth_mode");
+  c.scene.depth = get_real(r, "scene.depth");
   c.domain.x_range = get_vec2(r, "domain.x_range");
   c.domain.y_range = get_vec2(r, "domain.y_range");
   if (auto a = r.at_path("domain.periodic").as_array())
@@ -409,6 +477,7 @@ Case build_case(const toml::table& root) {
       c.domain.wall_right |= w == "right";
     }
   c.domain.lid_pressure = get_real(r, "domain.lid_pressure");
+  c.domain.lid = get_text(r, "domain.lid");
   auto& g = c.grains;
   g.diameter = get_real(r, "grains.diameter");
   g.polydispersity = get_real(r, "grains.polydispersity");
@@ -503,6 +572,8 @@ Case parse_case(const std::string& text, const std::string& name,
   if (!diag.empty()) throw InputError(diag.text());
 
   Case c = build_case(root);
+  apply_depth_mode(root, c, diag);
+  if (!diag.empty()) throw InputError(diag.text());
   cross_checks(root, c, diag);
   if (!diag.empty()) throw InputError(diag.text());
   if (!c.continuum.rheology_file.empty()) apply_rheology_file(root, name, c, diag);

@@ -24,4 +24,14 @@ double Case::lithostatic_pressure() const {
   return bulk_density() * g * depth;
 }
 
+double Case::reference_gravity() const {
+  const double g = std::hypot(scene.gravity[0], scene.gravity[1]);
+  return g > 0 ? g : scene.lid_gravity;
+}
+
+double Case::equivalent_depth() const {
+  const double rho_g = bulk_density() * reference_gravity();
+  return rho_g > 0 ? stated_pressure() / rho_g : 0.0;
+}
+
 }  // namespace grainlift

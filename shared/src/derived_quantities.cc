@@ -14,12 +14,16 @@ DerivedQuantities derive(const RunResult& r) {
   q.spin_ratio = speed > 0 ? g.omega * 0.5 * g.intruder_diameter / speed : 0.0;
   if (r.means) {
     if (r.means->drag != 0) q.lift_over_drag = r.means->lift / r.means->drag;
-    const double gravity = std::hypot(g.gravity_x, g.gravity_y);
+    double gravity = g.reference_gravity;
+    if (!(gravity > 0)) gravity = std::hypot(g.gravity_x, g.gravity_y);  // files before it
     if (gravity > 0) {
       const double b = g.bulk_density * gravity * 3.14159265358979323846 * g.intruder_diameter *
                        g.intruder_diameter / 4;
       q.buoyancy = b;
       q.lift_over_buoyancy = r.means->lift / b;
+      if (g.equivalent_depth > 0)
+        q.drag_coefficient =
+            r.means->drag / (g.bulk_density * gravity * g.equivalent_depth * g.intruder_diameter);
     }
   }
   if (r.surface && !r.surface->sigma_n.empty()) {

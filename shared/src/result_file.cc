@@ -53,7 +53,13 @@ const std::pair<const char*, double Geometry::*> geometry_fields[] = {
     {"gravity_y", &Geometry::gravity_y},
     {"bulk_density", &Geometry::bulk_density},
     {"pressure_scale", &Geometry::pressure_scale},
+    {"reference_gravity", &Geometry::reference_gravity},
+    {"equivalent_depth", &Geometry::equivalent_depth},
 };
+/// Attributes of geometry_fields added after schema 2 was first written: absent = 0.
+bool optional_geometry_field(const std::string& name) {
+  return name == "reference_gravity" || name == "equivalent_depth";
+}
 
 // ---- writing ---------------------------------------------------------------------------------
 Handle make_group(hid_t parent, const char* name) {
@@ -223,6 +229,7 @@ void write_body(hid_t file, const RunResult& r) {
     if (q.lift_over_drag) attr_number(g, "lift_over_drag", *q.lift_over_drag);
     if (q.buoyancy) attr_number(g, "buoyancy", *q.buoyancy);
     if (q.lift_over_buoyancy) attr_number(g, "lift_over_buoyancy", *q.lift_over_buoyancy);
+    if (q.drag_coefficient) attr_number(g, "drag_coefficient", *q.drag_coefficient);
     if (!q.sigma_n_symmetric.empty()) {
       dataset_doubles(g, "sigma_n_symmetric", q.sigma_n_symmetric, "Pa");
       dataset_doubles(g, "sigma_n_antisymmetric", q.sigma_n_antisymmetric, "Pa");
@@ -381,7 +388,9 @@ RunResult read_body(hid_t file) {
   {
     Handle g(H5Gopen2(file, "geometry", H5P_DEFAULT), H5Gclose);
     if (!g.valid()) throw InputError("missing group /geometry");
-    for (const auto& [name, member] : geometry_fields) r.geometry.*member = read_attr_double(g, name);
+    for (const auto& [name, member] : geometry_fields)
+      if (!optional_geometry_field(name) || H5Aexists(g, name) > 0)
+        r.geometry.*member = read_attr_double(g, name);
   }
   if (exists(file, "forces")) {
     Handle g(H5Gopen2(file, "forces", H5P_DEFAULT), H5Gclose);

@@ -56,6 +56,10 @@ JsonObject summary_object(const RunResult& r) {
     o.add("buoyancy", *q.buoyancy);
     o.add("lift_over_buoyancy", *q.lift_over_buoyancy);
   }
+  if (q.drag_coefficient) {
+    o.add("equivalent_depth", r.geometry.equivalent_depth);
+    o.add("drag_coefficient", *q.drag_coefficient);
+  }
   if (r.lid) {
     o.add("lid_pressure_target", r.lid->target);
     o.add("lid_pressure_mean", r.lid->mean);

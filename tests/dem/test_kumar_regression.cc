@@ -10,39 +10,10 @@
 
 #include "grainlift/dem/simulation.h"
 
+#include "block_mean.h"
+
 namespace gd = grainlift::dem;
-
-namespace {
-
-struct MeanAndError {
-  double mean = 0, stderr_ = 0;
-};
-
-/// Mean over samples [first, end) and its standard error from 10 contiguous blocks (the
-/// samples are correlated; block means of 8 diameters of travel each are close to independent).
-template <class F>
-MeanAndError block_mean(const gd::DemOutput& out, F value) {
-  const std::size_t first = out.steady_start_index;
-  const std::size_t n = out.samples.size() - first;
-  const int blocks = 10;
-  const std::size_t per = n / blocks;
-  double means[blocks];
-  double total = 0;
-  for (int b = 0; b < blocks; ++b) {
-    double s = 0;
-    for (std::size_t k = 0; k < per; ++k) s += value(out.samples[first + b * per + k]);
-    means[b] = s / static_cast<double>(per);
-    total += means[b];
-  }
-  MeanAndError r;
-  r.mean = total / blocks;
-  double var = 0;
-  for (double m : means) var += (m - r.mean) * (m - r.mean);
-  r.stderr_ = std::sqrt(var / (blocks - 1) / blocks);
-  return r;
-}
-
-}  // namespace
+using grainlift::test_support::block_mean;
 
 // Physics: mean lift L = F_y < 0 (along -omega x V) by more than 3 standard errors, and
 // mean drag D = -F_x > 0 by more than 3 standard errors. dt = 4e-6 s (0.03 of the collision

@@ -300,3 +300,57 @@ TEST(CaseLoader, RheologyFileReplacesTheContinuumLaw) {
   EXPECT_TRUE(contains(e, "missing.toml")) << e;
   fs::remove_all(dir);
 }
+
+// Guillard et al. (2014), Sec. II: three ways of putting the intruder at depth h. All three
+// give the same confining pressure P0 = rho g h at the centre (rho = Phi rho_s); the free surface
+// and the heavy lid with the gradient rho g, the lid alone without it. The equivalent depth of
+// the heavy lid in 2D is h = (ymax - y_c) + P_lid / (rho g). Exact arithmetic: 1e-12 relative.
+TEST(CaseLoader, DepthModesDeriveLidBoxAndGravityFromTheDepth) {
+  const double rho = 0.8 * 20.0, g = 9.81, h = 0.9;
+  const std::vector<std::string> grav = {"scene.gravity=[0.0, -9.81]", "scene.depth=0.9"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> s = grav;
+    s.insert(s.end(), extra.begin(), extra.end());
+    return s;
+  };
+  const Case heavy = parse_case(base, "case.toml", with({"scene.depth_mode=\"heavy_lid\""}));
+  EXPECT_NEAR(heavy.domain.lid_pressure, rho * g * (h - 0.4), 1e-12 * rho * g * h);
+  EXPECT_NEAR(heavy.stated_pressure(), rho * g * h, 1e-12 * rho * g * h);
+  EXPECT_NEAR(heavy.equivalent_depth(), h, 1e-12 * h);
+  EXPECT_DOUBLE_EQ(heavy.scene.gravity[1], -g);
+
+  const Case lid = parse_case(base, "case.toml", with({"scene.depth_mode=\"lid_only\""}));
+  EXPECT_NEAR(lid.domain.lid_pressure, rho * g * h, 1e-12 * rho * g * h);
+  EXPECT_EQ(lid.scene.gravity[0], 0.0);
+  EXPECT_EQ(lid.scene.gravity[1], 0.0);  // the grains feel no gravity: no gradient
+  EXPECT_DOUBLE_EQ(lid.reference_gravity(), g);
+  EXPECT_NEAR(lid.equivalent_depth(), h, 1e-12 * h);
+
+  const Case free = parse_case(base, "case.toml",
+                               with({"scene.depth_mode=\"free_surface\"", "domain.walls=[\"bottom\"]"}));
+  EXPECT_NEAR(free.domain.y_range[1], h, 1e-12);  // intruder at y = 0: the top is at h
+  EXPECT_EQ(free.domain.lid_pressure, 0.0);
+  EXPECT_NEAR(free.stated_pressure(), rho * g * h, 1e-12 * rho * g * h);
+}
+
+// Depth modes refuse what would make a different depth than the one stated, naming the key.
+TEST(CaseLoader, DepthModesRefuseContradictions) {
+  const std::string g = "scene.gravity=[0.0, -9.81]";
+  EXPECT_TRUE(contains(error_of(base, {"scene.depth=0.5"}), "needs scene.depth_mode"));
+  EXPECT_TRUE(contains(error_of(base, {"scene.depth_mode=\"heavy_lid\"", g}), "scene.depth > 0"));
+  EXPECT_TRUE(contains(error_of(base, {"scene.depth_mode=\"heavy_lid\"", "scene.depth=0.9"}),
+                       "gravity along -y"));
+  // the real bed above the centre (0.4 m) is deeper than the stated depth
+  EXPECT_TRUE(contains(error_of(base, {"scene.depth_mode=\"heavy_lid\"", g, "scene.depth=0.3"}),
+                       "must exceed the real depth"));
+  EXPECT_TRUE(contains(error_of(base, {"scene.depth_mode=\"free_surface\"", g, "scene.depth=0.3"}),
+                       "no top wall"));
+  EXPECT_TRUE(contains(error_of(base, {"scene.depth_mode=\"lid_only\"", g, "scene.depth=0.3",
+                                       "domain.lid_pressure=2.0"}),
+                       "remove it"));
+  std::string no_top = base;
+  no_top.replace(no_top.find("walls = [\"bottom\", \"top\"]"), 26, "walls = [\"bottom\"]");
+  const std::string e = error_of(no_top, {"scene.depth_mode=\"lid_only\"", g, "scene.depth=0.3"});
+  EXPECT_TRUE(contains(e, "case.toml:6")) << e;  // the line of domain.walls
+  EXPECT_TRUE(contains(e, "needs the \"top\" wall")) << e;
+}

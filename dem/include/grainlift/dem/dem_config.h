@@ -52,6 +52,10 @@ struct DemConfig {
   double lid_pressure = 0;
   double lid_mass = 0;     ///< kg; 0 = PressureLid::default_mass (the mass of the bed)
   double lid_damping = 0;  ///< kg/s; 0 = PressureLid::default_damping (critical)
+  /// false: the lid is one rigid body; true: each lid disk rises and sinks on its own under its
+  /// share P W / N of the load, with mass M / N and damping c / N (Guillard 2014's heavy lid of
+  /// free-to-rise disks, horizontal velocity imposed)
+  bool lid_free_disks = false;
 
   // ---- grains
   double grain_diameter = 0.02;   ///< m, mean

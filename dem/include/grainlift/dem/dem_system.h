@@ -198,6 +198,11 @@ class DemSystem {
   /// Move the frozen disks [begin, end) by (dx, dy) (m; x wrapped in a periodic box), with the
   /// velocity (vx, vy) (m/s) in the contact law.
   void move_frozen(int begin, int end, double dx, double dy, double vx, double vy);
+  /// The free-disk lid: each frozen disk j of [begin, end) moves by (dx, dy[j - begin]) and
+  /// carries (vx, vy[j - begin]).
+  void move_frozen_each(int begin, int end, double dx, const std::vector<double>& dy, double vx,
+                        const std::vector<double>& vy);
+  std::vector<double> lid_force_y_, lid_dy_;  ///< scratch of the free-disk lid
   /// Runs up to m steps on one thread; stops early (state drifted) when the lists need a
   /// rebuild. Returns the steps completed.
   long long run_segment(long long m);

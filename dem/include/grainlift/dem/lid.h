@@ -5,6 +5,8 @@
 // the forces of every step (DemSystem::attach_lid). See docs/dem-model.md.
 #pragma once
 
+#include <vector>
+
 #include "grainlift/dem/dem_config.h"
 
 namespace grainlift::dem {
@@ -13,7 +15,7 @@ class DemSystem;
 
 /// One sample of the lid.
 struct LidState {
-  double y = 0;         ///< m, height of the lid disks' centres
+  double y = 0;         ///< m, height of the lid disks' centres (their mean for free disks)
   double velocity = 0;  ///< m/s
   double pressure = 0;  ///< N/m (2D pressure, = Pa per unit depth): grain force on the lid / width
   /// N/m: x force of the grains on the lid / width (the shear stress the lid feels; with U > 0
@@ -53,6 +55,17 @@ class PressureLid {
   /// then holds y', v', the pressure force_y / W and the shear stress force_x / W.
   LidMove advance(double force_x, double force_y, double dt);
 
+  /// @brief Free disks (cfg.lid_free_disks): one step of every disk's equation of motion,
+  ///   (M/N) dv_k/dt = F_k - P W / N - (c/N) v_k,
+  /// integrated as advance() does, under the grains' y force @p force_y on each disk (N,
+  /// disks() entries) and their total x force @p force_x. Fills @p dy with each disk's
+  /// displacement (m); returns (U dt, mean dy). state() holds the mean height and velocity.
+  LidMove advance_disks(double force_x, const std::vector<double>& force_y, double dt,
+                        std::vector<double>& dy);
+  bool free_disks() const { return free_disks_; }
+  /// m/s, velocity of each disk after the last advance_disks() (free disks only)
+  const std::vector<double>& disk_velocity() const { return disk_velocity_; }
+
   /// Lid state after the last advance() (pressure: the force measured in that call).
   const LidState& state() const { return state_; }
   double mass() const { return mass_; }        ///< kg
@@ -73,11 +86,17 @@ class PressureLid {
   static double default_damping(const DemConfig& cfg, double mass);
 
  private:
+  /// Stores the step's outcome in state_ (velocity, height y, measured forces) and returns the
+  /// move (U dt, y - previous height).
+  LidMove record(double force_x, double force_y, double dt, double velocity, double y);
+
   int begin_ = 0, end_ = 0;  ///< lid disks: particle indices [begin_, end_)
   double width_ = 0;         ///< m, box width W
   double force_target_ = 0;  ///< N, P W
   double mass_ = 0, damping_ = 0;
   double shear_velocity_ = 0;  ///< m/s, U
+  bool free_disks_ = false;
+  std::vector<double> disk_y_, disk_velocity_;  ///< m, m/s: each disk (free disks only)
   LidState state_;
 };
 

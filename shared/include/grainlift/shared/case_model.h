@@ -14,7 +14,12 @@ namespace grainlift {
 using Vec2 = std::array<double, 2>;
 
 struct SceneSection {
-  Vec2 gravity{};            ///< m/s^2
+  Vec2 gravity{};            ///< m/s^2 on the grains (zero in lid_only mode)
+  /// "box" | "free_surface" | "heavy_lid" | "lid_only" (Guillard et al. 2014's three ways of
+  /// making a depth; the loader derives domain.lid_pressure, the top of the box and gravity)
+  std::string depth_mode;
+  double depth{};            ///< m, equivalent depth h of scene.depth (0 in box mode)
+  double lid_gravity{};      ///< m/s^2, |g| of the lid in lid_only mode (0 otherwise)
 };
 
 struct DomainSection {
@@ -22,6 +27,7 @@ struct DomainSection {
   std::array<bool, 2> periodic{};
   bool wall_bottom{}, wall_top{}, wall_left{}, wall_right{};
   double lid_pressure{};  ///< Pa (2D reading), confining pressure on the top-wall lid; 0 = fixed wall
+  std::string lid;        ///< "rigid" | "free_disks" (DEM)
 };
 
 struct IntruderSection {
@@ -126,6 +132,11 @@ struct Case {
   double speed() const;
   /// Spin ratio Omega = omega R / |V| (Kumar eq. 4).
   double spin_ratio() const;
+  /// |g| that sets the pressure scale: the grains' gravity, or the lid's in lid_only mode.
+  double reference_gravity() const;
+  /// Equivalent depth h = P0 / (rho g) of the intruder centre with P0 = stated_pressure() and
+  /// g = reference_gravity(), m; 0 without gravity. Equals scene.depth in the depth modes.
+  double equivalent_depth() const;
   /// Lithostatic pressure at the intruder centre, rho |g| (depth below the top of the box), Pa.
   double lithostatic_pressure() const;
   /// The confining pressure at the intruder centre that both solvers see, Pa: the lid's

@@ -37,6 +37,8 @@ struct Geometry {
   double gravity_x = 0, gravity_y = 0;    ///< m/s^2
   double bulk_density = 0;        ///< kg/m^3 (2D: per unit length), rho = Phi rho_s
   double pressure_scale = 0;      ///< Pa, the stated pressure scale P0 used to normalise stresses
+  double reference_gravity = 0;   ///< m/s^2, |g| of the pressure scale (the lid's in lid_only mode)
+  double equivalent_depth = 0;    ///< m, h = P0 / (rho g) of the case (0 without gravity)
 };
 
 /// Force on the intruder against time (per unit length, lab frame). A steady FE solution
