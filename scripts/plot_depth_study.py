@@ -3,9 +3,11 @@
 
     python3 scripts/plot_depth_study.py OUT_DIR [IMG_DIR]
 
-Reads OUT_DIR/{dem,dem_rigid,fem_full,fem_linearised}/<run>/<solver>.h5 (dem_rigid: the same
-runs with a rigid lid, domain.lid = "rigid") (the grainlift schema, nothing
-from logs) and writes into IMG_DIR (default OUT_DIR):
+Reads OUT_DIR/<series>/<run>/<solver>.h5 for the series of scripts/study_depth.sh (dem: the
+sweep's box, 4 D of bed below the centre; dem_rigid: the same with a rigid lid; dem_d6: 6 D of
+bed below; dem_d6_s2: a second bed of dem_d6; fem_full, fem_linearised) (the grainlift schema,
+nothing from logs) and writes into IMG_DIR (default OUT_DIR); the collapse and hydrostatic
+figures show dem_d6 where it exists, else dem:
   depth_lift.png        L / B against h / D, both solvers, with and without the gradient
   depth_drag.png        C_d = drag / (rho g h D) against h / D
   depth_antisym.png     (sigma_n - sigma_n(no gradient, same h)) / (rho g D) against theta
@@ -25,7 +27,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-SERIES = ("dem", "dem_rigid", "fem_full", "fem_linearised")
+from bed_balance import bed_balance, overburden  # noqa: E402
+from pool_beds import line_fit, pool_series, power_law  # noqa: E402
+
+SERIES = ("dem", "dem_rigid", "dem_d6", "dem_d6_s2", "dem_d6_s3", "fem_full", "fem_linearised")
+BEDS = ("dem_d6_s2", "dem_d6_s3")  # the other beds of dem_d6, pooled into dem_d6_pooled
+TITLES = {"dem": "DEM, 4 D below", "dem_rigid": "DEM, rigid lid", "dem_d6": "DEM, 6 D below",
+          "dem_d6_pooled": "DEM, 6 D below, pooled over beds", "fem_full": "FEM (full solves)"}
+
+
+def main_dem(runs):
+    """The DEM series the collapse and hydrostatic figures show: the box that does not set the
+    lift (dem_d6) pooled over its beds where it was run, else the sweep's standard box."""
+    for s in ("dem_d6_pooled", "dem_d6"):
+        if any(k[0] == s for k in runs):
+            return s
+    return "dem"
 
 
 def read_run(path):
@@ -43,6 +60,7 @@ def read_run(path):
             "P0": float(g["pressure_scale"]),
             "width": float(g["domain_xmax"]) - float(g["domain_xmin"]),
             "below": float(g["intruder_y"]) - float(g["domain_ymin"]),
+            "top": float(g["domain_ymax"]) - float(g["intruder_y"]),
             "drag": float(m["drag"]),
             "lift": float(m["lift"]),
             "drag_err": float(m.get("drag_stderr", 0.0)),
@@ -67,56 +85,13 @@ def read_run(path):
             r["fy"] = f["fields/y"][:]
             r["fp"] = f["fields/pressure"][:]
             r["fsyy"] = -f["fields/stress_yy"][:]  # compressive positive
+            if "area_fraction" in f["fields"]:  # DEM only
+                r["fphi"] = f["fields/area_fraction"][:]
+        if "diagnostics" in f and "area_fraction" in f["diagnostics"].attrs:
+            r["rho_s"] = r["rho"] / float(f["diagnostics"].attrs["area_fraction"])
     r["hD"] = r["h"] / r["D"]
     r["rgD"] = r["rho"] * r["g_ref"] * r["D"]
     return r
-
-
-def hydrostatic(r, field="fp"):
-    """Bed pressure (field "fp"; "fsyy": the vertical stress) away from the intruder (|x| >= 4 D) in bands of D/2 over |y| <= 1.5 D (the
-    DEM's fine grid shows the grain layering row by row) against the expected P0 - rho g y
-    (gradient) or P0 (lid only): fitted slope over -rho g (1 for hydrostatic), and the largest
-    relative deviation of a band mean from the expected line."""
-    if "fp" not in r:
-        return None
-    D = r["D"]
-    cols = np.abs(r["fx"]) >= 4 * D
-    edges = np.arange(-1.5, 1.5001, 0.5) * D
-    y, p = [], []
-    for lo, hi in zip(edges[:-1], edges[1:]):
-        rows = (r["fy"] >= lo) & (r["fy"] < hi)
-        if rows.sum() == 0 or cols.sum() == 0:
-            return None
-        y.append(0.5 * (lo + hi))
-        p.append(r[field][np.ix_(rows, cols)].mean())
-    y, p = np.array(y), np.array(p)
-    rho_g = r["rho"] * r["g_grains"]
-    expected = r["P0"] - rho_g * y
-    slope = np.polyfit(y, p, 1)[0]
-    return {
-        "y": y,
-        "p": p,
-        "expected": expected,
-        "slope_ratio": (-slope / rho_g) if rho_g > 0 else float("nan"),
-        "max_dev": float(np.max(np.abs(p / expected - 1))),
-    }
-
-
-def weight_balance(r):
-    """The bed's vertical stress over the whole width in bands of D/2 clear of the intruder
-    (0.5 D <= |y| <= 1.5 D) against P0 - rho g y: largest relative deviation. Across a whole
-    horizontal line that misses the intruder, force balance makes sigma_yy the lid's pressure
-    plus the weight above."""
-    if "fsyy" not in r:
-        return float("nan")
-    D = r["D"]
-    dev = 0.0
-    for lo in (-1.5, -1.0, 0.5, 1.0):
-        rows = (r["fy"] >= lo * D) & (r["fy"] < (lo + 0.5) * D)
-        y = (lo + 0.25) * D
-        expected = r["P0"] - r["rho"] * r["g_grains"] * y
-        dev = max(dev, abs(float(np.nanmean(r["fsyy"][rows, :])) / expected - 1))
-    return dev
 
 
 def hydrostatic_weighting(r):
@@ -155,35 +130,57 @@ STYLE = {
     ("dem", False): dict(color="C0", marker="o", mfc="none", ls="--", label="DEM, no gradient (lid only)"),
     ("dem_rigid", True): dict(color="C7", marker="v", ms=5, label="DEM, gradient, rigid lid"),
     ("dem_rigid", False): dict(color="C7", marker="v", ms=5, mfc="none", ls="--", label="DEM, no gradient, rigid lid"),
+    ("dem_d6", True): dict(color="C1", marker="o", ms=5, label="DEM, gradient, 6 D below"),
+    ("dem_d6", False): dict(color="C1", marker="o", ms=5, mfc="none", ls="--", label="DEM, no gradient, 6 D below"),
+    ("dem_d6_pooled", True): dict(color="C1", marker="o", ms=6, label="DEM, gradient, 6 D below, 3 beds"),
+    ("dem_d6_pooled", False): dict(color="C1", marker="o", ms=6, mfc="none", ls="--", label="DEM, no gradient, 6 D below, 3 beds"),
     ("fem_full", True): dict(color="C3", marker="s", label="FEM full, gradient"),
     ("fem_full", False): dict(color="C3", marker="s", mfc="none", ls="--", label="FEM, no gradient"),
     ("fem_linearised", True): dict(color="C2", marker="^", ls=":", label="FEM O(eps), gradient"),
 }
 
 
-def plot_scalar(runs, key, err_key, ylabel, path, norm):
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+def plot_scalar(runs, key, err_key, ylabel, path, norm, net=False):
+    """key (normalised by norm) against h/D for every series of STYLE: at full gravity joined by
+    lines, at reduced gravity (the same P0 as 8 D) as triangles. net: also the main DEM series
+    less its no-gradient run at the same P0 (what the gradient adds)."""
+    fig, ax = plt.subplots(figsize=(9.6, 4.6))
+    full_g = lambda r: r["g_grains"] > 0.99 * 9.81 or not r["gradient"]
     for (s, grad), st in STYLE.items():
         sel = series(runs, s, grad)
-        if not sel:
+        if not sel or (s == "dem_d6" and any(k[0] == "dem_d6_pooled" for k in runs)):
             continue
-        x = [r["hD"] for _, r in sel]
-        y = [norm(r, r[key]) for _, r in sel]
-        e = [norm(r, r[err_key]) if err_key else 0 for _, r in sel]
-        ax.errorbar(x, y, yerr=e if s.startswith("dem") else None, capsize=3, **st)
+        dem = s.startswith("dem")
+        for reduced in (False, True):
+            pts = [r for _, r in sel if full_g(r) != reduced]
+            if not pts:
+                continue
+            kw = dict(st) if not reduced else dict(color=st["color"], marker="^", ms=8, ls="none",
+                                                    label=f"{st['label'].split(',')[0]}: g/2, g/4 at the P0 of 8 D")
+            ax.errorbar([r["hD"] for r in pts], [norm(r, r[key]) for r in pts],
+                        yerr=[norm(r, r[err_key]) for r in pts] if dem else None, capsize=3, **kw)
         for name, r in series(runs, s, grad, free_surface=True):
-            ax.errorbar(r["hD"], norm(r, r[key]), yerr=norm(r, r[err_key]) if s.startswith("dem") else None,
+            ax.errorbar(r["hD"], norm(r, r[key]), yerr=norm(r, r[err_key]) if dem else None,
                         color=st["color"], marker="*", ms=12, ls="none", capsize=3)
-    for s in ("dem", "fem_full"):
+    if net:
+        m = main_dem(runs)
+        pts = [(r, nograd_partner(runs, m, r)) for _, r in series(runs, m, True)]
+        pts = [(r, p) for r, p in pts if p is not None]
+        if pts:
+            ax.errorbar([r["hD"] for r, _ in pts], [norm(r, r[key] - p[key]) for r, p in pts],
+                        yerr=[norm(r, math.hypot(r[err_key], p[err_key])) for r, p in pts], color="k",
+                        marker="D", ms=6, ls=":", capsize=3,
+                        label=f"{TITLES[m].split(',')[0]}: gradient less no gradient (same P0)")
+    for s in (main_dem(runs), "fem_full"):
         for name, r in series(runs, s, True, bigbox=True):
-            ax.errorbar(r["hD"], norm(r, r[key]), yerr=norm(r, r[err_key]) if s == "dem" else None,
+            ax.errorbar(r["hD"], norm(r, r[key]), yerr=norm(r, r[err_key]) if s.startswith("dem") else None,
                         color=STYLE[(s, True)]["color"], marker="D", ms=8, mfc="none", ls="none",
-                        capsize=3, label=f"{s.split('_')[0].upper()}, box 1.5x wider, 6 D below")
+                        capsize=3, label=f"{s.split('_')[0].upper()}, box 18 D wide, 6 D below")
     ax.plot([], [], "k*", ms=11, ls="none", label="free surface (method i), same colours")
     ax.axhline(0, color="0.6", lw=0.8)
     ax.set_xlabel("h / D")
     ax.set_ylabel(ylabel)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, bbox_to_anchor=(1.02, 1), loc="upper left")
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
@@ -207,7 +204,7 @@ def plot_collapse(runs, path_anti, path_sym):
     cmap = plt.get_cmap("viridis")
     for what, path in (("anti", path_anti), ("sym", path_sym)):
         fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
-        for ax, s in zip(axes, ("dem", "fem_full")):
+        for ax, s in zip(axes, (main_dem(runs), "fem_full")):
             sel = series(runs, s, True) + [t for t in series(runs, s, True, free_surface=True) if t[0] == "free_surface_h2"]
             sel.sort(key=lambda t: t[1]["hD"])
             hmax = max([r["hD"] for _, r in sel] + [1])
@@ -229,7 +226,7 @@ def plot_collapse(runs, path_anti, path_sym):
                     order = np.argsort(deg)
                     ax.plot(deg[order], (r["sym"] / r["P0"])[order], color=cmap(r["hD"] / hmax),
                             ls="--", lw=0.8)
-            ax.set_title({"dem": "DEM", "fem_full": "FEM (full solves)"}[s])
+            ax.set_title(TITLES[s])
             ax.set_xlabel("theta (deg; 0 = front, 90 = top, -90 = bottom)")
             ax.axhline(0, color="0.6", lw=0.8)
             ax.legend(fontsize=7)
@@ -241,20 +238,24 @@ def plot_collapse(runs, path_anti, path_sym):
 
 
 def plot_hydrostatic(runs, path):
-    fig, ax = plt.subplots(figsize=(5.6, 4.4))
-    for i, (name, r) in enumerate(series(runs, "dem", True)):
-        hs = hydrostatic(r)
-        if hs is None:
+    """Whole-width sigma_yy in the bed's bands (points) against the force balance of
+    bed_balance.py (solid) and the case's nominal line P0 - rho g y (dashed)."""
+    fig, ax = plt.subplots(figsize=(5.8, 4.6))
+    for i, (name, r) in enumerate(series(runs, main_dem(runs), True)):
+        bb = bed_balance(r)
+        if bb is None:
             continue
-        hv = hydrostatic(r, "fsyy")
-        ax.plot(hs["p"] / r["rgD"], hs["y"] / r["D"], "o", color=f"C{i}", ms=4, mfc="none",
-                label=f"{name}: p, max dev {100 * hs['max_dev']:.0f}%")
-        ax.plot(hv["p"] / r["rgD"], hv["y"] / r["D"], "s", color=f"C{i}", ms=4,
-                label=f"{name}: sigma_yy, max dev {100 * hv['max_dev']:.0f}%")
-        ax.plot(hs["expected"] / r["rgD"], hs["y"] / r["D"], "-", color=f"C{i}", lw=0.8)
-    ax.set_xlabel("stress / (rho g D), |x| >= 4 D, bands of D/2")
-    ax.set_ylabel("y / D (intruder centre at 0)")
-    ax.set_title("DEM bed away from the intruder: p (open), sigma_yy (filled); P0 - rho g y (lines)", fontsize=8)
+        k = r["rgD"]
+        ax.plot(bb["syy"] / k, bb["y"] / r["D"], "o", color=f"C{i}", ms=5,
+                label=f"{name}: balance within {100 * bb['max_dev']:.1f}%")
+        ax.plot(bb["expected"] / k, bb["y"] / r["D"], "-", color=f"C{i}", lw=0.9)
+        ax.plot((r["P0"] - r["rho"] * r["g_grains"] * bb["y"]) / k, bb["y"] / r["D"], "--",
+                color=f"C{i}", lw=0.7)
+    ax.axhspan(-0.5, 0.5, color="0.9")
+    ax.set_xlabel("whole-width sigma_yy / (rho g D)")
+    ax.set_ylabel("y / D (intruder centre at 0; grey: its height)")
+    ax.set_title(f"{TITLES[main_dem(runs)]}: points measured; solid lid + weight above (+ lift below);\n"
+                 "dashed the case's P0 - rho g y", fontsize=8)
     ax.legend(fontsize=6)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
@@ -264,8 +265,8 @@ def plot_hydrostatic(runs, path):
 def table(runs, out):
     rows = []
     for (s, name), r in sorted(runs.items(), key=lambda t: (t[0][0], not t[1]["gradient"], t[1]["hD"], t[0][1])):
-        hs = hydrostatic(r) if s.startswith("dem") else None
-        hv = hydrostatic(r, "fsyy") if s.startswith("dem") else None
+        bb = bed_balance(r) if s.startswith("dem") else None
+        ob = overburden(r) if s.startswith("dem") else None
         rows.append({
             "series": s, "run": name, "h_over_D": round(r["hD"], 3), "gradient": int(r["gradient"]),
             "P0_Pa": r["P0"], "drag_N_per_m": r["drag"], "drag_err": r["drag_err"],
@@ -274,11 +275,11 @@ def table(runs, out):
             "C_d": r["Cd"], "C_d_err": r["drag_err"] / (r["rgD"] * r["h"]) if r["h"] > 0 else float("nan"),
             "lid_mean_over_target": r["lid_mean"] / r["lid_target"] if r["lid_target"] > 0 else float("nan"),
             "far_field_over_P0": r["far_field"] / r["P0"],
-            "hydro_slope_ratio": hs["slope_ratio"] if hs else float("nan"),
-            "hydro_max_dev": hs["max_dev"] if hs else float("nan"),
-            "syy_slope_ratio": hv["slope_ratio"] if hv else float("nan"),
-            "syy_max_dev": hv["max_dev"] if hv else float("nan"),
-            "syy_full_width_max_dev": weight_balance(r) if s.startswith("dem") else float("nan"),
+            "overburden_over_P0": ob["load"] / r["P0"] if ob else float("nan"),
+            "real_bed_above_centre_D": ob["surface"] / r["D"] if ob else float("nan"),
+            "balance_max_dev": bb["max_dev"] if bb else float("nan"),
+            "gradient_over_bed_rho_g": bb["slope_over_bed"] if bb else float("nan"),
+            "gradient_over_nominal_rho_g": bb["slope_over_nominal"] if bb else float("nan"),
             "hydrostatic_weighting_L_over_B": hydrostatic_weighting(r) if not r["gradient"] else float("nan"),
             "wall_s": r["wall_s"],
         })
@@ -286,17 +287,17 @@ def table(runs, out):
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    print("| series | run | h/D | P0 (Pa) | drag (N/m) | lift (N/m) | L/B | C_d | lid p/target | far-field p/P0 | bed p: slope / rho g, max dev | bed sigma_yy: slope / rho g, max dev | sigma_yy whole width: max dev | hydrostatic weighting L/B | wall (s) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| series | run | h/D | P0 (Pa) | drag (N/m) | lift (N/m) | L/B | C_d | lid p/target | far-field p/P0 | overburden/P0 | real bed above centre (D) | force balance: max dev | gradient / (rho_bed g), / (rho g) | hydrostatic weighting L/B | wall (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for x in rows:
         pm = lambda v, e: f"{v:.4g} +- {e:.2g}" if e > 0 else f"{v:.4g}"
         nan = lambda v, f="{:.3f}": "-" if v != v else f.format(v)
         print(f"| {x['series']} | {x['run']} | {x['h_over_D']:g} | {x['P0_Pa']:.4g} | "
               f"{pm(x['drag_N_per_m'], x['drag_err'])} | {pm(x['lift_N_per_m'], x['lift_err'])} | "
               f"{pm(x['L_over_B'], x['L_over_B_err'])} | {pm(x['C_d'], x['C_d_err'])} | "
-              f"{nan(x['lid_mean_over_target'])} | {nan(x['far_field_over_P0'])} | {nan(x['hydro_slope_ratio'], '{:.2f}')}, "
-              f"{nan(x['hydro_max_dev'], '{:.1%}')} | {nan(x['syy_slope_ratio'], '{:.2f}')}, "
-              f"{nan(x['syy_max_dev'], '{:.1%}')} | {nan(x['syy_full_width_max_dev'], '{:.1%}')} | "
+              f"{nan(x['lid_mean_over_target'])} | {nan(x['far_field_over_P0'])} | {nan(x['overburden_over_P0'])} | "
+              f"{nan(x['real_bed_above_centre_D'], '{:.2f}')} | {nan(x['balance_max_dev'], '{:.1%}')} | "
+              f"{nan(x['gradient_over_bed_rho_g'], '{:.2f}')}, {nan(x['gradient_over_nominal_rho_g'], '{:.2f}')} | "
               f"{nan(x['hydrostatic_weighting_L_over_B'], '{:.2f}')} | "
               f"{x['wall_s']:.0f} |")
 
@@ -305,22 +306,91 @@ def collapse_table(runs):
     """How well the split holds: per gradient run, the symmetric part of sigma_n over P0 against
     its no-gradient partner's (rms difference over the partner's rms), and the antisymmetric
     part over rho g D against the h = 8 D run of the same series (rms difference over the 8 D
-    curve's rms), with the DEM's noise on that scale (rms of sigma_n_stderr / (rho g D))."""
-    print("\n| series | run | h/D | sym/P0 vs no gradient: rms diff / rms | anti/(rho g D) vs 8 D: rms diff / rms | noise: rms stderr / (rho g D) / rms(anti 8 D) |")
-    print("|---|---|---|---|---|---|")
+    curve's rms), as it is and less the antisymmetric part of the no-gradient run at the same
+    P0 (what the gradient adds), with the DEM's noise on that scale (rms of sigma_n_stderr /
+    (rho g D), of the two runs combined for the difference)."""
+    print("\n| series | run | h/D | sym/P0 vs no gradient: rms diff / rms | anti/(rho g D) vs 8 D: rms diff / rms | (anti - anti no gradient)/(rho g D) vs 8 D: rms diff / rms | noise of that / rms(8 D) |")
+    print("|---|---|---|---|---|---|---|")
     rms = lambda v: float(np.sqrt(np.mean(np.square(v))))
-    for s in ("dem", "fem_full"):
+    for s in ("dem", "dem_d6", "dem_d6_pooled", "fem_full"):
         ref = dict(series(runs, s, True)).get("heavy_lid_h8")
         if ref is None:
             continue
         a_ref = ref["anti"] / ref["rgD"]
+        p_ref = nograd_partner(runs, s, ref)
+        g_ref = (ref["anti"] - p_ref["anti"]) / ref["rgD"] if p_ref is not None else None
         for name, r in series(runs, s, True):
             p = nograd_partner(runs, s, r)
             sym = (f"{rms(r['sym'] / r['P0'] - p['sym'] / p['P0']) / rms(p['sym'] / p['P0']):.3f}"
                    if p is not None else "-")
             anti = rms(r["anti"] / r["rgD"] - a_ref) / rms(a_ref)
-            noise = (f"{rms(r['sn_err'] / r['rgD']) / rms(a_ref):.3f}" if r["sn_err"] is not None else "-")
-            print(f"| {s} | {name} | {r['hD']:g} | {sym} | {anti:.3f} | {noise} |")
+            grad, noise = "-", "-"
+            if p is not None and g_ref is not None:
+                grad = f"{rms((r['anti'] - p['anti']) / r['rgD'] - g_ref) / rms(g_ref):.3f}"
+                if r["sn_err"] is not None and p["sn_err"] is not None:
+                    noise = f"{rms(np.hypot(r['sn_err'], p['sn_err']) / r['rgD']) / rms(g_ref):.3f}"
+            print(f"| {s} | {name} | {r['hD']:g} | {sym} | {anti:.3f} | {grad} | {noise} |")
+
+
+def pooled_table(runs):
+    """The DEM in the box that does not set the lift, pooled over beds (pool_beds.py): L/B and
+    C_d with the pooled error, the between-bed and within-bed errors of the lift, and the three
+    checks the asymptotic predictions need: no lift without the gradient, the same L/B once
+    deep, and the lift's power of g at fixed P0."""
+    sel = sorted(((n, r) for (s, n), r in runs.items() if s == "dem_d6_pooled"),
+                 key=lambda t: (not t[1]["gradient"], t[1]["hD"], t[0]))
+    if not sel:
+        return
+    print("\n| run | h/D | g / 9.81 | beds | L/B | lift error: between beds / within beds (N/m) | (L - L no gradient) / B | C_d | drag error: between / within (N/m) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for n, r in sel:
+        cd = r["rgD"] * r["h"]
+        p = nograd_partner(runs, "dem_d6_pooled", r) if r["gradient"] else None
+        net = (f"{(r['lift'] - p['lift']) / r['B']:.2f} +- {math.hypot(r['lift_err'], p['lift_err']) / r['B']:.2f}"
+               if p is not None else "-")
+        print(f"| {n} | {r['hD']:g} | {r['g_ref'] / 9.81:.3g} | {r['beds']} | {r['lift'] / r['B']:.2f} +- "
+              f"{r['lift_err'] / r['B']:.2f} | {r['lift_err_between']:.2g} / {r['lift_err_within']:.2g} | {net} | "
+              f"{r['drag'] / cd:.3f} +- {r['drag_err'] / cd:.3f} | "
+              f"{r['drag_err_between']:.2g} / {r['drag_err_within']:.2g} |")
+    byname = dict(sel)
+    fixed_p0 = [byname[n] for n in ("heavy_lid_h8", "heavy_lid_h16_g2", "heavy_lid_h32_g4") if n in byname]
+    if len(fixed_p0) >= 2:
+        a, ea = power_law([r["g_grains"] for r in fixed_p0], [r["lift"] for r in fixed_p0],
+                          [r["lift_err"] for r in fixed_p0])
+        print(f"\nlift at the P0 of 8 D against g ({len(fixed_p0)} gravities): power {a:.2f} +- {ea:.2f} "
+              f"({abs(a - 1) / ea:.1f} errors from 1)")
+        # the split at the level of the force: L = L(P0, no gradient) + b g at fixed P0, with
+        # the lid-only run at the same P0 as the point g = 0
+        pts = fixed_p0 + ([byname["lid_only_h8"]] if "lid_only_h8" in byname else [])
+        if len(pts) >= 3:
+            a0, ea0, b, eb, chi = line_fit([r["g_grains"] for r in pts], [r["lift"] for r in pts],
+                                           [r["lift_err"] for r in pts])
+            print(f"lift at the P0 of 8 D = a + b g ({len(pts)} points, g = 0 the lid-only run): a = {a0:.4g} +- "
+                  f"{ea0:.2g} N/m, b g(9.81) = {b * 9.81:.4g} +- {eb * 9.81:.2g} N/m ({b * 9.81 / fixed_p0[0]['B']:.2f} +- "
+                  f"{eb * 9.81 / fixed_p0[0]['B']:.2f} B), chi2/dof {chi:.2f}")
+            if "lid_only_h8" in byname:
+                base = byname["lid_only_h8"]
+                net = [(r["g_grains"], r["lift"] - base["lift"], math.hypot(r["lift_err"], base["lift_err"]))
+                       for r in fixed_p0]
+                if all(v > 0 for _, v, _ in net):
+                    p, ep = power_law(*zip(*net))
+                    print(f"lift minus the lid-only lift at that P0 against g: power {p:.2f} +- {ep:.2f}")
+    for n, r in sel:
+        if not r["gradient"]:
+            print(f"no gradient, {n}: L/B = {r['lift'] / r['B']:.2f} +- {r['lift_err'] / r['B']:.2f} "
+                  f"({abs(r['lift']) / r['lift_err']:.1f} errors from 0)")
+    if "heavy_lid_h8" in byname and "heavy_lid_h8_bigbox" in byname:
+        r1, r2 = byname["heavy_lid_h8"], byname["heavy_lid_h8_bigbox"]
+        for k, unit in (("lift", "B"), ("drag", "B")):
+            d = (r2[k] - r1[k]) / r1["B"]
+            e = math.hypot(r1[k + "_err"], r2[k + "_err"]) / r1["B"]
+            print(f"box check at 8 D, {k}: 18 D wide ({r2['beds']} beds) less 12 D wide ({r1['beds']} beds) = "
+                  f"{d:+.2f} +- {e:.2f} {unit} ({abs(d) / e:.1f} errors; {100 * (r2[k] / r1[k] - 1):+.0f}%)")
+    deep = [(n, byname[n]) for n in ("heavy_lid_h6", "heavy_lid_h8", "heavy_lid_h12") if n in byname]
+    for (n1, r1), (n2, r2) in zip(deep, deep[1:]):
+        d = r2["lift"] / r2["B"] - r1["lift"] / r1["B"]
+        e = math.hypot(r1["lift_err"] / r1["B"], r2["lift_err"] / r2["B"])
+        print(f"L/B {n2} - {n1}: {d:+.2f} +- {e:.2f} ({abs(d) / e:.1f} errors)")
 
 
 def main():
@@ -334,14 +404,16 @@ def main():
     if not runs:
         print(f"no results under {out}/{{dem,fem_full,fem_linearised}}/*/", file=sys.stderr)
         return 1
+    pool_series(runs, "dem_d6", BEDS, "dem_d6_pooled")
     plot_scalar(runs, "lift", "lift_err", "L / B,  B = rho g pi D^2 / 4",
-                os.path.join(img, "depth_lift.png"), lambda r, v: v / r["B"])
+                os.path.join(img, "depth_lift.png"), lambda r, v: v / r["B"], net=True)
     plot_scalar(runs, "drag", "drag_err", "C_d = drag / (rho g h D)",
                 os.path.join(img, "depth_drag.png"), lambda r, v: v / (r["rgD"] * r["h"]))
     plot_collapse(runs, os.path.join(img, "depth_antisym.png"), os.path.join(img, "depth_sym.png"))
     plot_hydrostatic(runs, os.path.join(img, "depth_hydrostatic.png"))
     table(runs, out)
     collapse_table(runs)
+    pooled_table(runs)
     return 0
 
 

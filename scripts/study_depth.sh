@@ -2,8 +2,12 @@
 # The depth sweep of docs/results-guillard2014.md (issue 13): Guillard et al. 2014's lift and drag
 # against depth in 2D, DEM and FEM on the same domains, with the gradient (heavy lid, free surface)
 # and without it (gravity on the lid only).
-#   scripts/study_depth.sh [dem|fem|plots|all|rigid|box] [OUT_DIR]  (default all, runs/depth_study)
+#   scripts/study_depth.sh [dem|fem|plots|all|rigid|d6|d6beds|box] [OUT_DIR]  (default all, runs/depth_study)
 # rigid: the lid scenes again with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid.
+# d6: the whole DEM sweep again with 6 D of bed below the centre instead of 4 D (a box that does
+# not set the lift, docs/results-guillard2014.md), into OUT_DIR/dem_d6; 13 runs, ~50 min.
+# d6beds: the lid scenes of d6 on two more beds (dem.seed = 2, 3), into OUT_DIR/dem_d6_s2 and
+# dem_d6_s3 (20 runs, ~50 min): the bed-to-bed scatter, which the block errors do not hold.
 # box: h = 8 D in a box 24 D wide, and one with 6 D of bed below (two DEM runs, ~10 min), into
 # OUT_DIR/../box_study; compare with heavy_lid_h8 and heavy_lid_h8_bigbox of the sweep.
 # dem: 15 DEM runs of 100 d travel, two at a time, ~40 min on 2 cores; fem: 25 solves, ~5 min.
@@ -45,6 +49,8 @@ run_one() {  # run_one SOLVER GRAVITY_TREATMENT NAME ARGS...
   mkdir -p "$dir"
   local extra=()
   if [[ $treat == rigid ]]; then extra=(--set 'domain.lid="rigid"')
+  elif [[ $treat == d6 ]]; then extra=(--set 'domain.y_range=[-0.09,0.03]')
+  elif [[ $treat == d6_s* ]]; then extra=(--set 'domain.y_range=[-0.09,0.03]' --set "dem.seed=${treat#d6_s}")
   elif [[ -n "$treat" ]]; then extra=(--set "continuum.gravity_treatment=\"$treat\""); fi
   if ! "$G" run "$CASE" --solver "$solver" --threads 1 --quiet --out "$dir" "$@" "${extra[@]}" \
       > "$dir/log.txt" 2>&1; then
@@ -64,11 +70,21 @@ case $PART in
   plots|all) "$PY" scripts/plot_depth_study.py "$O" docs/img ;;
   rigid)  # the lid scenes with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid
     configs | grep -v free_surface | xargs -d '\n' -P 2 -I{} bash -c 'run_one dem rigid {}' ;;
+  d6)  # the box that does not set the lift (docs/results-guillard2014.md): 6 D of bed below.
+    # The bigbox run keeps its width (18 D; the same 6 D below); free_surface_h4 (a 10 D tall
+    # bed) is the mode check of the standard series.
+    configs | grep -v -E '^free_surface_h4 ' |
+      xargs -d '\n' -P 2 -I{} bash -c 'run_one dem d6 {}' ;;
+  d6beds)
+    for seed in 2 3; do
+      configs | grep -E '^(heavy_lid_h(4|6|8|12|16_g2|32_g4|8_bigbox)|lid_only_h(4|8|12)) ' |
+        xargs -d '\n' -P 2 -I{} bash -c "run_one dem d6_s$seed {}"
+    done ;;
   box)
     O=$(dirname "$O")/box_study; export O
     printf '%s\n' "heavy_lid_h8_w24 --set 'domain.x_range=[-0.18,0.18]'" \
       "heavy_lid_h8_d6 --set 'domain.y_range=[-0.09,0.03]'" |
       xargs -d '\n' -P 2 -I{} bash -c 'run_one dem "" {}' ;;
   dem|fem) ;;
-  *) echo "unknown part $PART (dem|fem|plots|all|rigid|box)"; exit 2 ;;
+  *) echo "unknown part $PART (dem|fem|plots|all|rigid|d6|d6beds|box)"; exit 2 ;;
 esac
