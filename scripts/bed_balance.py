@@ -34,12 +34,14 @@ def _integral_above(phi_rows, dy):
     return above - 0.5 * phi_rows * dy
 
 
-def grid_reaches_bed_top(r):
-    """The field grid reaches the top of the box (so it holds every grain above a line)."""
+def grid_holds_the_bed(r):
+    """The field grid spans the box's whole (periodic) width and reaches its top, so that it
+    holds every grain above a horizontal line."""
     if "fphi" not in r:
         return False
-    dy = float(r["fy"][1] - r["fy"][0])
-    return float(r["fy"][-1]) + 0.5 * dy >= r["top"] - 1e-9
+    dx, dy = float(r["fx"][1] - r["fx"][0]), float(r["fy"][1] - r["fy"][0])
+    span = float(r["fx"][-1] - r["fx"][0]) + dx
+    return span >= r["width"] * (1 - 1e-6) and float(r["fy"][-1]) + 0.5 * dy >= r["top"] - 1e-9
 
 
 def bed_balance(r):
@@ -47,7 +49,7 @@ def bed_balance(r):
     band centres y, measured and expected stress, the largest relative deviation, and the
     bed's gradient below the intruder over rho_s <phi> g (1 for a hydrostatic column) and
     over the nominal rho g."""
-    if not grid_reaches_bed_top(r) or "fsyy" not in r:
+    if not grid_holds_the_bed(r) or "fsyy" not in r:
         return None
     D, y = r["D"], r["fy"]
     dy = float(y[1] - y[0])
@@ -80,8 +82,8 @@ def overburden(r):
     per unit width of the grains above the centre line (Pa), and the real bed above the centre
     as a height at the bed's own packing (the grains' area above the line over the width and
     over the mean area fraction between 0.5 D and 0.75 D above the centre), in m. None without
-    a grid reaching the box top."""
-    if not grid_reaches_bed_top(r):
+    a grid holding the bed."""
+    if not grid_holds_the_bed(r):
         return None
     D, y = r["D"], r["fy"]
     dy = float(y[1] - y[0])

@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Figures and table of the depth sweep (scripts/study_depth.sh, docs/results-guillard2014.md).
 
-    python3 scripts/plot_depth_study.py OUT_DIR [IMG_DIR]
+    python3 scripts/plot_depth_study.py OUT_DIR [IMG_DIR] [--window LO HI]
+
+--window LO HI: the DEM's drag and lift over that travel window (grain diameters) from the force
+samples, instead of the files' averages (surface stresses and fields stay the files').
 
 Reads OUT_DIR/<series>/<run>/<solver>.h5 for the series of scripts/study_depth.sh (dem: the
 sweep's box, 4 D of bed below the centre; dem_rigid: the same with a rigid lid; dem_d6: 6 D of
@@ -45,8 +48,29 @@ def main_dem(runs):
     return "dem"
 
 
-def read_run(path):
-    """The scalars and distributions of one result file."""
+def travel_series(f):
+    """A DEM file's force samples against travel (in grain diameters): travel, drag, lift (the
+    sweep's intruder moves along +x: drag = -fx, lift = fy)."""
+    g = f["geometry"].attrs
+    if float(g["velocity_y"]) != 0 or float(g["velocity_x"]) <= 0:
+        raise ValueError("travel windows need an intruder moving along +x")
+    travel = f["forces/time"][:] * float(g["velocity_x"]) / float(g["grain_diameter"])
+    return travel, -f["forces/fx"][:], f["forces/fy"][:]
+
+
+def window_mean(travel, x, lo, hi, block=4.0):
+    """Mean of x over lo <= travel < hi and its standard error from blocks of `block` grain
+    diameters of travel (the files' own: 20 blocks over 80 d)."""
+    sel = x[(travel >= lo) & (travel < hi)]
+    nb = max(2, int(round((hi - lo) / block)))
+    means = np.array([b.mean() for b in np.array_split(sel[: len(sel) // nb * nb], nb)])
+    return float(means.mean()), float(means.std(ddof=1) / math.sqrt(nb))
+
+
+def read_run(path, window=None):
+    """The scalars and distributions of one result file; with window = (lo, hi) the DEM's drag
+    and lift (and their errors) over that travel window, in grain diameters, instead of the
+    file's averaging window (the surface stresses and fields stay the file's)."""
     with h5py.File(path, "r") as f:
         g = f["geometry"].attrs
         m = f["means"].attrs
@@ -89,8 +113,16 @@ def read_run(path):
                 r["fphi"] = f["fields/area_fraction"][:]
         if "diagnostics" in f and "area_fraction" in f["diagnostics"].attrs:
             r["rho_s"] = r["rho"] / float(f["diagnostics"].attrs["area_fraction"])
+        solver = f["metadata"].attrs["solver"]
+        if window is not None and (solver.decode() if isinstance(solver, bytes) else solver) == "dem":
+            travel, drag, lift = travel_series(f)
+            r["drag"], r["drag_err"] = window_mean(travel, drag, *window)
+            r["lift"], r["lift_err"] = window_mean(travel, lift, *window)
     r["hD"] = r["h"] / r["D"]
     r["rgD"] = r["rho"] * r["g_ref"] * r["D"]
+    if window is not None and r["h"] > 0 and not math.isnan(r["Cd"]):
+        r["Cd"] = r["drag"] / (r["rgD"] * r["h"])
+    r["path"] = path
     return r
 
 
@@ -102,7 +134,7 @@ def hydrostatic_weighting(r):
     return float(np.sum(r["sn"] * np.sin(r["theta"]) ** 2) * dtheta / (math.pi * r["P0"]))
 
 
-def load(out):
+def load(out, window=None):
     runs = {}
     for s in SERIES:
         base = os.path.join(out, s)
@@ -112,7 +144,7 @@ def load(out):
         for name in sorted(os.listdir(base)):
             path = os.path.join(base, name, solver + ".h5")
             if os.path.isfile(path):
-                runs[(s, name)] = read_run(path)
+                runs[(s, name)] = read_run(path, window)
     return runs
 
 
@@ -175,7 +207,7 @@ def plot_scalar(runs, key, err_key, ylabel, path, norm, net=False):
         for name, r in series(runs, s, True, bigbox=True):
             ax.errorbar(r["hD"], norm(r, r[key]), yerr=norm(r, r[err_key]) if s.startswith("dem") else None,
                         color=STYLE[(s, True)]["color"], marker="D", ms=8, mfc="none", ls="none",
-                        capsize=3, label=f"{s.split('_')[0].upper()}, box 18 D wide, 6 D below")
+                        capsize=3, label=f"{s.split('_')[0].upper()}, box 18 D wide, 6 D below" if name == "heavy_lid_h8_bigbox" else None)
     ax.plot([], [], "k*", ms=11, ls="none", label="free surface (method i), same colours")
     ax.axhline(0, color="0.6", lw=0.8)
     ax.set_xlabel("h / D")
@@ -192,10 +224,13 @@ def wrapped_degrees(theta):
 
 
 def nograd_partner(runs, s, r):
-    """The no-gradient run of the same solver at the same P0 (FEM: the full solves)."""
+    """The no-gradient run of the same solver at the same P0 in the same box (FEM: the full
+    solves)."""
     src = "fem_full" if s.startswith("fem") else s
+    wide = abs(r["width"] - min(r2["width"] for (s2, _), r2 in runs.items() if s2 == src)) > 1e-9
     for (s2, name), r2 in runs.items():
-        if s2 == src and not r2["gradient"] and abs(r2["P0"] / r["P0"] - 1) < 1e-6 and not name.endswith("bigbox"):
+        if (s2 == src and not r2["gradient"] and abs(r2["P0"] / r["P0"] - 1) < 1e-6
+                and name.endswith("bigbox") == wide):
             return r2
     return None
 
@@ -343,15 +378,16 @@ def pooled_table(runs):
         return
     print("\n| run | h/D | g / 9.81 | beds | L/B | lift error: between beds / within beds (N/m) | (L - L no gradient) / B | C_d | drag error: between / within (N/m) |")
     print("|---|---|---|---|---|---|---|---|---|")
+    g2 = lambda v: "-" if v != v else f"{v:.2g}"
     for n, r in sel:
         cd = r["rgD"] * r["h"]
         p = nograd_partner(runs, "dem_d6_pooled", r) if r["gradient"] else None
         net = (f"{(r['lift'] - p['lift']) / r['B']:.2f} +- {math.hypot(r['lift_err'], p['lift_err']) / r['B']:.2f}"
                if p is not None else "-")
         print(f"| {n} | {r['hD']:g} | {r['g_ref'] / 9.81:.3g} | {r['beds']} | {r['lift'] / r['B']:.2f} +- "
-              f"{r['lift_err'] / r['B']:.2f} | {r['lift_err_between']:.2g} / {r['lift_err_within']:.2g} | {net} | "
+              f"{r['lift_err'] / r['B']:.2f} | {g2(r['lift_err_between'])} / {g2(r['lift_err_within'])} | {net} | "
               f"{r['drag'] / cd:.3f} +- {r['drag_err'] / cd:.3f} | "
-              f"{r['drag_err_between']:.2g} / {r['drag_err_within']:.2g} |")
+              f"{g2(r['drag_err_between'])} / {g2(r['drag_err_within'])} |")
     byname = dict(sel)
     fixed_p0 = [byname[n] for n in ("heavy_lid_h8", "heavy_lid_h16_g2", "heavy_lid_h32_g4") if n in byname]
     if len(fixed_p0) >= 2:
@@ -379,13 +415,14 @@ def pooled_table(runs):
         if not r["gradient"]:
             print(f"no gradient, {n}: L/B = {r['lift'] / r['B']:.2f} +- {r['lift_err'] / r['B']:.2f} "
                   f"({abs(r['lift']) / r['lift_err']:.1f} errors from 0)")
-    if "heavy_lid_h8" in byname and "heavy_lid_h8_bigbox" in byname:
-        r1, r2 = byname["heavy_lid_h8"], byname["heavy_lid_h8_bigbox"]
-        for k, unit in (("lift", "B"), ("drag", "B")):
+    for wide in [n for n in byname if n.endswith("_bigbox") and n[:-len("_bigbox")] in byname]:
+        r1, r2 = byname[wide[:-len("_bigbox")]], byname[wide]
+        for k in ("lift", "drag"):
             d = (r2[k] - r1[k]) / r1["B"]
             e = math.hypot(r1[k + "_err"], r2[k + "_err"]) / r1["B"]
-            print(f"box check at 8 D, {k}: 18 D wide ({r2['beds']} beds) less 12 D wide ({r1['beds']} beds) = "
-                  f"{d:+.2f} +- {e:.2f} {unit} ({abs(d) / e:.1f} errors; {100 * (r2[k] / r1[k] - 1):+.0f}%)")
+            print(f"box check, {wide[:-len('_bigbox')]}, {k}: 18 D wide ({r2['beds']} beds) less 12 D wide "
+                  f"({r1['beds']} beds) = {d:+.2f} +- {e:.2f} B ({abs(d) / e:.1f} errors; "
+                  f"{100 * (r2[k] / r1[k] - 1):+.0f}%)")
     deep = [(n, byname[n]) for n in ("heavy_lid_h6", "heavy_lid_h8", "heavy_lid_h12") if n in byname]
     for (n1, r1), (n2, r2) in zip(deep, deep[1:]):
         d = r2["lift"] / r2["B"] - r1["lift"] / r1["B"]
@@ -393,14 +430,58 @@ def pooled_table(runs):
         print(f"L/B {n2} - {n1}: {d:+.2f} +- {e:.2f} ({abs(d) / e:.1f} errors)")
 
 
+def window_table(runs):
+    """The pooled DEM's lift in buoyancies over successive 20 d windows of travel (mean over the
+    beds, error as in pool_beds.py): how the lift changes as the
+    bed ahead of the intruder, which has not yet been crossed, shortens. In a periodic box of
+    length W the intruder has W - travel of such bed ahead of it."""
+    wins = ((20, 40), (40, 60), (60, 80), (80, 100))
+    print("\n| run | box width (D) | beds | " + " | ".join(f"L/B, travel {a}-{b} d" for a, b in wins) + " |")
+    print("|---|---|---|" + "---|" * len(wins))
+    for (s, n), r in sorted(runs.items(), key=lambda t: (not t[1]["gradient"], t[1]["width"], t[1]["hD"], t[0][1])):
+        if s != "dem_d6":
+            continue
+        paths = [r["path"]] + [runs[(e, n)]["path"] for e in BEDS if (e, n) in runs]
+        cells = []
+        for lo, hi in wins:
+            vals, errs = [], []
+            for p in paths:
+                with h5py.File(p, "r") as f:
+                    travel, _, lift = travel_series(f)
+                if travel[-1] < hi - 1e-6:
+                    break
+                m, e = window_mean(travel, lift, lo, hi)
+                vals.append(m / r["B"])
+                errs.append(e / r["B"])
+            if not vals:
+                cells.append("-")
+                continue
+            # as pool_beds.py: the larger of the between-bed and the pooled block error
+            err = math.sqrt(sum(e * e for e in errs)) / len(errs)
+            if len(vals) > 1:
+                err = max(err, float(np.std(vals, ddof=1)) / math.sqrt(len(vals)))
+            cells.append(f"{np.mean(vals):.1f} +- {err:.1f}")
+        print(f"| {n} | {r['width'] / r['D']:.0f} | {len(paths)} | " + " | ".join(cells) + " |")
+
+
 def main():
-    if len(sys.argv) < 2:
+    args = sys.argv[1:]
+    window = None
+    if "--window" in args:
+        k = args.index("--window")
+        try:
+            window = (float(args[k + 1]), float(args[k + 2]))
+        except (IndexError, ValueError):
+            print("--window needs two numbers: the travel window in grain diameters", file=sys.stderr)
+            return 2
+        del args[k:k + 3]
+    if not args:
         print(__doc__)
         return 2
-    out = sys.argv[1]
-    img = sys.argv[2] if len(sys.argv) > 2 else out
+    out = args[0]
+    img = args[1] if len(args) > 1 else out
     os.makedirs(img, exist_ok=True)
-    runs = load(out)
+    runs = load(out, window)
     if not runs:
         print(f"no results under {out}/{{dem,fem_full,fem_linearised}}/*/", file=sys.stderr)
         return 1
@@ -414,6 +495,7 @@ def main():
     table(runs, out)
     collapse_table(runs)
     pooled_table(runs)
+    window_table(runs)
     return 0
 
 

@@ -40,6 +40,9 @@ configs() {
   done
   # the box check: h = 8 D on a box 1.5 times wider with 6 D of bed below instead of 4 D
   echo "heavy_lid_h8_bigbox --set scene.depth=$(depth 8) --set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
+  # and in that box: the shallowest lid depth, and the no-gradient lift at the P0 of 8 D
+  echo "heavy_lid_h4_bigbox --set scene.depth=$(depth 4) --set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
+  echo "lid_only_h8_bigbox --set 'scene.depth_mode=\"lid_only\"' --set scene.depth=$(depth 8) --set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
 }
 
 run_one() {  # run_one SOLVER GRAVITY_TREATMENT NAME ARGS...
@@ -67,7 +70,7 @@ case $PART in
     configs | xargs -d '\n' -P 2 -I{} bash -c 'run_one fem full {}'
     # the O(eps) route needs gravity: not for the lid-only scenes
     configs | grep -v lid_only | xargs -d '\n' -P 2 -I{} bash -c 'run_one fem linearised {}' ;;&
-  plots|all) "$PY" scripts/plot_depth_study.py "$O" docs/img ;;
+  plots|all) "$PY" scripts/plot_depth_study.py "$O" docs/img --window 20 60 ;;
   rigid)  # the lid scenes with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid
     configs | grep -v free_surface | xargs -d '\n' -P 2 -I{} bash -c 'run_one dem rigid {}' ;;
   d6)  # the box that does not set the lift (docs/results-guillard2014.md): 6 D of bed below.

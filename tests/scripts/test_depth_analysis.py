@@ -108,11 +108,15 @@ class BedBalance(unittest.TestCase):
         self.assertAlmostEqual(ob["load"] / expected, 1.0, delta=1e-3)
         self.assertAlmostEqual(ob["surface"] / 0.015, 1.5, delta=1e-3)
 
-    def test_a_grid_short_of_the_box_top_is_refused(self):
-        # the weight above a line needs every grain above it: no answer from a grid that stops
-        # below the box top
+    def test_a_grid_short_of_the_box_is_refused(self):
+        # the weight above a line and the force across it need every grain: no answer from a
+        # grid that stops below the box top or spans less than the periodic width
         r = bed_run()
         r["top"] = 3 * r["D"]
+        self.assertIsNone(bed_balance(r))
+        self.assertIsNone(overburden(r))
+        r = bed_run()
+        r["width"] = 18 * r["D"]
         self.assertIsNone(bed_balance(r))
         self.assertIsNone(overburden(r))
 
