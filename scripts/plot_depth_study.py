@@ -423,6 +423,22 @@ def pooled_table(runs):
             print(f"box check, {wide[:-len('_bigbox')]}, {k}: 18 D wide ({r2['beds']} beds) less 12 D wide "
                   f"({r1['beds']} beds) = {d:+.2f} +- {e:.2f} B ({abs(d) / e:.1f} errors; "
                   f"{100 * (r2[k] / r1[k] - 1):+.0f}%)")
+    # the same check on the surface stresses (the files' 20-100 d averages): the split's two
+    # parts in the two boxes, rms difference over the 18 D box's rms, with the noise on that scale
+    rms = lambda v: float(np.sqrt(np.mean(np.square(v))))
+    for wide in [n for n in byname if n.endswith("_bigbox") and byname[n]["gradient"]]:
+        r1, r2 = byname[wide[:-len("_bigbox")]], byname[wide]
+        p1, p2 = nograd_partner(runs, "dem_d6_pooled", r1), nograd_partner(runs, "dem_d6_pooled", r2)
+        if p1 is None or p2 is None or r1["sn_err"] is None:
+            continue
+        s2 = r2["sym"] / r2["P0"]
+        g1, g2 = (r1["anti"] - p1["anti"]) / r1["rgD"], (r2["anti"] - p2["anti"]) / r2["rgD"]
+        noise_s = rms(np.hypot(r1["sn_err"], r2["sn_err"]) / r1["P0"]) / rms(s2)
+        noise_g = rms(np.sqrt(r1["sn_err"] ** 2 + r2["sn_err"] ** 2 + p1["sn_err"] ** 2 + p2["sn_err"] ** 2)
+                      / r1["rgD"]) / rms(g2)
+        print(f"box check, {wide[:-len('_bigbox')]}, surface stress (20-100 d): symmetric part / P0 differs by "
+              f"{rms(r1['sym'] / r1['P0'] - s2) / rms(s2):.3f} rms (noise {noise_s:.3f}); the gradient's "
+              f"antisymmetric part / (rho g D) by {rms(g1 - g2) / rms(g2):.3f} (noise {noise_g:.3f})")
     deep = [(n, byname[n]) for n in ("heavy_lid_h6", "heavy_lid_h8", "heavy_lid_h12") if n in byname]
     for (n1, r1), (n2, r2) in zip(deep, deep[1:]):
         d = r2["lift"] / r2["B"] - r1["lift"] / r1["B"]
