@@ -15,7 +15,8 @@ loader's equivalent depth assumes instead a real bed reaching the box top at the
 fraction.
 
 The run dict (read_run of plot_depth_study.py) must hold fx, fy (grid centres), fphi, fsyy
-(compressive positive), lid_mean (Pa, nan without a lid), rho_s, g_grains, width, lift, D and
+(compressive positive), lid_mean (Pa, nan without a lid), rho_s, g_grains, width, lift (or
+lift_fields, the lift over the fields' averaging window, when the two windows differ), D and
 top (the box top above the intruder's centre, m).
 """
 
@@ -57,7 +58,8 @@ def bed_balance(r):
     syy = r["fsyy"].mean(axis=1)
     lid = 0.0 if r["lid_mean"] != r["lid_mean"] else r["lid_mean"]
     g = r["g_grains"]
-    expected = lid + r["rho_s"] * g * _integral_above(phi, dy) + np.where(y < 0, r["lift"] / r["width"], 0.0)
+    lift = r.get("lift_fields", r["lift"])  # the lift over the fields' own averaging window
+    expected = lid + r["rho_s"] * g * _integral_above(phi, dy) + np.where(y < 0, lift / r["width"], 0.0)
     yb, sb, eb = [], [], []
     for lo, hi in BED_BANDS:
         rows = (y >= lo * D) & (y < hi * D)

@@ -113,6 +113,7 @@ def read_run(path, window=None):
                 r["fphi"] = f["fields/area_fraction"][:]
         if "diagnostics" in f and "area_fraction" in f["diagnostics"].attrs:
             r["rho_s"] = r["rho"] / float(f["diagnostics"].attrs["area_fraction"])
+        r["lift_fields"] = r["lift"]  # over the files' window, as the fields (bed_balance.py)
         solver = f["metadata"].attrs["solver"]
         if window is not None and (solver.decode() if isinstance(solver, bytes) else solver) == "dem":
             travel, drag, lift = travel_series(f)

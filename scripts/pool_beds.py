@@ -47,8 +47,9 @@ def pool(members):
         within = np.sqrt(np.sum(np.square([m["sn_err"] for m in members]), axis=0)) / len(members)
         between = np.std(stack, axis=0, ddof=1) / math.sqrt(len(members))
         r["sn_err"] = np.maximum(within, between)
-    for k in ("wall_s", "far_field", "lid_mean"):
-        r[k] = float(np.mean([m[k] for m in members]))
+    for k in ("wall_s", "far_field", "lid_mean", "lift_fields"):
+        if all(k in m for m in members):
+            r[k] = float(np.mean([m[k] for m in members]))
     r["Cd"] = r["drag"] / (r["rgD"] * r["h"]) if r["h"] > 0 else float("nan")
     return r
 
