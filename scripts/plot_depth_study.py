@@ -7,16 +7,17 @@
 samples, instead of the files' averages (surface stresses and fields stay the files').
 
 Reads OUT_DIR/<series>/<run>/<solver>.h5 for the series of scripts/study_depth.sh (dem: the
-sweep's box, 4 D of bed below the centre; dem_rigid: the same with a rigid lid; dem_d6: 6 D of
-bed below; dem_d6_s2: a second bed of dem_d6; fem_full, fem_linearised) (the grainlift schema,
-nothing from logs) and writes into IMG_DIR (default OUT_DIR); the collapse and hydrostatic
-figures show dem_d6 where it exists, else dem:
+first box, 4 D of bed below the centre; dem_rigid: the same with a rigid lid; dem_d6: 6 D of
+bed below; dem_d6_s2, dem_d6_s3: its beds 2 and 3, pooled with it into dem_d6_pooled;
+fem_full, fem_linearised) (the grainlift schema, nothing from logs) and writes into IMG_DIR
+(default OUT_DIR); the collapse and hydrostatic figures show dem_d6_pooled where it exists:
   depth_lift.png        L / B against h / D, both solvers, with and without the gradient
   depth_drag.png        C_d = drag / (rho g h D) against h / D
   depth_antisym.png     (sigma_n - sigma_n(no gradient, same h)) / (rho g D) against theta
   depth_sym.png         symmetric part of sigma_n over P0 against theta
-  depth_hydrostatic.png DEM bed pressure away from the intruder against height, and rho g (h - y)
-and OUT_DIR/depth_study.csv, one row per run, and prints the same table as Markdown.
+  depth_hydrostatic.png whole-width sigma_yy of the DEM bed against the lid + weight balance
+and OUT_DIR/depth_study.csv, one row per run, and prints the same table as Markdown, then the
+split, the pooled DEM with its checks, and the lift in 20 d windows of travel.
 """
 import csv
 import math
@@ -31,12 +32,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from bed_balance import bed_balance, overburden  # noqa: E402
-from pool_beds import line_fit, pool_series, power_law  # noqa: E402
+from pool_beds import line_fit, pool_series, pooled_error, power_law  # noqa: E402
 
 SERIES = ("dem", "dem_rigid", "dem_d6", "dem_d6_s2", "dem_d6_s3", "fem_full", "fem_linearised")
 BEDS = ("dem_d6_s2", "dem_d6_s3")  # the other beds of dem_d6, pooled into dem_d6_pooled
 TITLES = {"dem": "DEM, 4 D below", "dem_rigid": "DEM, rigid lid", "dem_d6": "DEM, 6 D below",
           "dem_d6_pooled": "DEM, 6 D below, pooled over beds", "fem_full": "FEM (full solves)"}
+
+
+def rms(v):
+    return float(np.sqrt(np.mean(np.square(v))))
 
 
 def main_dem(runs):
@@ -115,10 +120,12 @@ def read_run(path, window=None):
             r["rho_s"] = r["rho"] / float(f["diagnostics"].attrs["area_fraction"])
         r["lift_fields"] = r["lift"]  # over the files' window, as the fields (bed_balance.py)
         solver = f["metadata"].attrs["solver"]
-        if window is not None and (solver.decode() if isinstance(solver, bytes) else solver) == "dem":
-            travel, drag, lift = travel_series(f)
-            r["drag"], r["drag_err"] = window_mean(travel, drag, *window)
-            r["lift"], r["lift_err"] = window_mean(travel, lift, *window)
+        if (solver.decode() if isinstance(solver, bytes) else solver) == "dem":
+            r["series_t"] = travel_series(f)  # (travel, drag, lift), for windows
+            if window is not None:
+                travel, drag, lift = r["series_t"]
+                r["drag"], r["drag_err"] = window_mean(travel, drag, *window)
+                r["lift"], r["lift_err"] = window_mean(travel, lift, *window)
     r["hD"] = r["h"] / r["D"]
     r["rgD"] = r["rho"] * r["g_ref"] * r["D"]
     if window is not None and r["h"] > 0 and not math.isnan(r["Cd"]):
@@ -228,10 +235,9 @@ def nograd_partner(runs, s, r):
     """The no-gradient run of the same solver at the same P0 in the same box (FEM: the full
     solves)."""
     src = "fem_full" if s.startswith("fem") else s
-    wide = abs(r["width"] - min(r2["width"] for (s2, _), r2 in runs.items() if s2 == src)) > 1e-9
-    for (s2, name), r2 in runs.items():
+    for (s2, _), r2 in runs.items():
         if (s2 == src and not r2["gradient"] and abs(r2["P0"] / r["P0"] - 1) < 1e-6
-                and name.endswith("bigbox") == wide):
+                and abs(r2["width"] - r["width"]) < 1e-9):
             return r2
     return None
 
@@ -347,7 +353,6 @@ def collapse_table(runs):
     (rho g D), of the two runs combined for the difference)."""
     print("\n| series | run | h/D | sym/P0 vs no gradient: rms diff / rms | anti/(rho g D) vs 8 D: rms diff / rms | (anti - anti no gradient)/(rho g D) vs 8 D: rms diff / rms | noise of that / rms(8 D) |")
     print("|---|---|---|---|---|---|---|")
-    rms = lambda v: float(np.sqrt(np.mean(np.square(v))))
     for s in ("dem", "dem_d6", "dem_d6_pooled", "fem_full"):
         ref = dict(series(runs, s, True)).get("heavy_lid_h8")
         if ref is None:
@@ -426,7 +431,6 @@ def pooled_table(runs):
                   f"{100 * (r2[k] / r1[k] - 1):+.0f}%)")
     # the same check on the surface stresses (the files' 20-100 d averages): the split's two
     # parts in the two boxes, rms difference over the 18 D box's rms, with the noise on that scale
-    rms = lambda v: float(np.sqrt(np.mean(np.square(v))))
     for wide in [n for n in byname if n.endswith("_bigbox") and byname[n]["gradient"]]:
         r1, r2 = byname[wide[:-len("_bigbox")]], byname[wide]
         p1, p2 = nograd_partner(runs, "dem_d6_pooled", r1), nograd_partner(runs, "dem_d6_pooled", r2)
@@ -458,27 +462,16 @@ def window_table(runs):
     for (s, n), r in sorted(runs.items(), key=lambda t: (not t[1]["gradient"], t[1]["width"], t[1]["hD"], t[0][1])):
         if s != "dem_d6":
             continue
-        paths = [r["path"]] + [runs[(e, n)]["path"] for e in BEDS if (e, n) in runs]
+        beds = [r] + [runs[(e, n)] for e in BEDS if (e, n) in runs]
         cells = []
         for lo, hi in wins:
-            vals, errs = [], []
-            for p in paths:
-                with h5py.File(p, "r") as f:
-                    travel, _, lift = travel_series(f)
-                if travel[-1] < hi - 1e-6:
-                    break
-                m, e = window_mean(travel, lift, lo, hi)
-                vals.append(m / r["B"])
-                errs.append(e / r["B"])
-            if not vals:
+            if any(b["series_t"][0][-1] < hi - 1e-6 for b in beds):
                 cells.append("-")
                 continue
-            # as pool_beds.py: the larger of the between-bed and the pooled block error
-            err = math.sqrt(sum(e * e for e in errs)) / len(errs)
-            if len(vals) > 1:
-                err = max(err, float(np.std(vals, ddof=1)) / math.sqrt(len(vals)))
-            cells.append(f"{np.mean(vals):.1f} +- {err:.1f}")
-        print(f"| {n} | {r['width'] / r['D']:.0f} | {len(paths)} | " + " | ".join(cells) + " |")
+            means = [window_mean(b["series_t"][0], b["series_t"][2], lo, hi) for b in beds]
+            err = pooled_error([m for m, _ in means], [e for _, e in means])[0]
+            cells.append(f"{np.mean([m for m, _ in means]) / r['B']:.1f} +- {err / r['B']:.1f}")
+        print(f"| {n} | {r['width'] / r['D']:.0f} | {len(beds)} | " + " | ".join(cells) + " |")
 
 
 def main():

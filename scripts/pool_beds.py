@@ -17,7 +17,9 @@ SCALARS = ("drag", "lift")
 ARRAYS = ("sn", "sym", "anti", "fp", "fsyy")
 
 
-def _pooled_error(values, errors):
+def pooled_error(values, errors):
+    """(error, between-bed error, within-bed error) of the mean of N bed values with block
+    errors `errors`, as the module docstring says; between is nan for one bed."""
     n = len(values)
     within = math.sqrt(sum(e * e for e in errors)) / n
     between = float(np.std(values, ddof=1)) / math.sqrt(n) if n > 1 else float("nan")
@@ -36,7 +38,7 @@ def pool(members):
         return r
     for k in SCALARS:
         vals = [m[k] for m in members]
-        err, between, within = _pooled_error(vals, [m[k + "_err"] for m in members])
+        err, between, within = pooled_error(vals, [m[k + "_err"] for m in members])
         r[k] = float(np.mean(vals))
         r[k + "_err"], r[k + "_err_between"], r[k + "_err_within"] = err, between, within
     for k in ARRAYS:

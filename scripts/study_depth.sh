@@ -4,10 +4,11 @@
 # and without it (gravity on the lid only).
 #   scripts/study_depth.sh [dem|fem|plots|all|rigid|d6|d6beds|box] [OUT_DIR]  (default all, runs/depth_study)
 # rigid: the lid scenes again with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid.
-# d6: the whole DEM sweep again with 6 D of bed below the centre instead of 4 D (a box that does
-# not set the lift, docs/results-guillard2014.md), into OUT_DIR/dem_d6; 13 runs, ~50 min.
+# d6: the whole DEM sweep again with 6 D of bed below the centre instead of 4 D (the box of
+# docs/results-guillard2014.md, its forces read over 20-60 d of travel: plots passes --window),
+# plus three runs in a box 18 D wide, into OUT_DIR/dem_d6; 15 runs, ~60 min.
 # d6beds: the lid scenes of d6 on two more beds (dem.seed = 2, 3), into OUT_DIR/dem_d6_s2 and
-# dem_d6_s3 (20 runs, ~50 min): the bed-to-bed scatter, which the block errors do not hold.
+# dem_d6_s3 (20 runs, ~50 min): the bed-to-bed scatter next to the block errors.
 # box: h = 8 D in a box 24 D wide, and one with 6 D of bed below (two DEM runs, ~10 min), into
 # OUT_DIR/../box_study; compare with heavy_lid_h8 and heavy_lid_h8_bigbox of the sweep.
 # dem: 15 DEM runs of 100 d travel, two at a time, ~40 min on 2 cores; fem: 25 solves, ~5 min.
@@ -73,8 +74,8 @@ case $PART in
   plots|all) "$PY" scripts/plot_depth_study.py "$O" docs/img --window 20 60 ;;
   rigid)  # the lid scenes with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid
     configs | grep -v free_surface | xargs -d '\n' -P 2 -I{} bash -c 'run_one dem rigid {}' ;;
-  d6)  # the box that does not set the lift (docs/results-guillard2014.md): 6 D of bed below.
-    # The bigbox run keeps its width (18 D; the same 6 D below); free_surface_h4 (a 10 D tall
+  d6)  # docs/results-guillard2014.md's box: 6 D of bed below.
+    # The bigbox runs keep their width (18 D; the same 6 D below); free_surface_h4 (a 10 D tall
     # bed) is the mode check of the standard series.
     configs | grep -v -E '^free_surface_h4 ' |
       xargs -d '\n' -P 2 -I{} bash -c 'run_one dem d6 {}' ;;

@@ -53,9 +53,9 @@ Lift run(const std::string& mode, double h_over_D) {
 // standard errors of zero and below a third of the lift with the gradient (heavy lid), which is
 // itself above zero by more than 3 standard errors. Measured here: 5.92 +- 0.60 buoyancies with
 // the gradient, 0.92 +- 0.37 without (docs/results-guillard2014.md, a box 12 D wide with 6 D
-// below, 3 beds: 7.31 +- 0.27 and 0.53 +- 0.17; the lift depends on the box, the drag does not,
-// and without the gradient a lift of 2.5-4% of the drag, proportional to P0, comes from the box's
-// asymmetry: a lid of free disks above, a frozen wall below).
+// below, 3 beds, 20-60 d of travel: 8.04 +- 0.40 and 0.55 +- 0.27; the lift depends on the box
+// and on how much uncrossed bed is left ahead, the drag hardly; without the gradient the lift is
+// within 2 errors of zero to 8 D and 4.4 +- 0.9 at 12 D, towards the lid of free disks).
 TEST(GuillardAsymptotic, NoLiftWithoutAGradient) {
   const Lift grad = run("heavy_lid", 4), flat = run("lid_only", 4);
   EXPECT_GT(grad.lift.mean, 3 * grad.lift.stderr_);
@@ -66,9 +66,10 @@ TEST(GuillardAsymptotic, NoLiftWithoutAGradient) {
 // Prediction 6 (Guillard 2014, Fig. 11; appendix B): once deep, the lift in buoyancies does not
 // depend on the depth. Heavy lid at h = 4 D and 8 D: L/B agree within 3 combined standard
 // errors, and within 40% of the deeper one so that large errors cannot make them agree. Measured
-// here: 5.92 +- 0.60 and 5.05 +- 0.96 (the sweep's box, 3 beds: 7.31 +- 0.27, 8.79 +- 0.44,
-// 9.37 +- 0.50 at 4, 6, 8 D). At fixed P0 the lift is the box's no-gradient lift plus the
-// gradient's part, which is consistent with linear in g (docs/results-guillard2014.md).
+// here: 5.92 +- 0.60 and 5.05 +- 0.96 (the sweep's box, 3 beds, 20-60 d: 8.04 +- 0.40,
+// 9.32 +- 0.61, 11.33 +- 0.57 at 4, 6, 8 D; less the no-gradient lift 7.5, 9.4, 10.0). At fixed
+// P0 the lift is the no-gradient lift plus the gradient's part, which is consistent with linear
+// in g (docs/results-guillard2014.md).
 TEST(GuillardAsymptotic, LiftIndependentOfDepthOnceDeep) {
   const Lift h4 = run("heavy_lid", 4), h8 = run("heavy_lid", 8);
   const double l4 = h4.lift.mean / h4.buoyancy, l8 = h8.lift.mean / h8.buoyancy;
