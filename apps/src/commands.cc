@@ -61,6 +61,7 @@ struct RunArgs {
   std::string case_path, solver = "both", out;
   std::vector<std::string> sets;
   int threads = 1;
+  int replicas = 1;
   bool quiet = false;
 };
 
@@ -100,6 +101,7 @@ int cmd_run(const RunArgs& a) {
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(a.case_path) : a.out;
   opt.threads = a.threads;
+  opt.replicas = a.replicas;
   // under mpirun every rank solves (the continuum is distributed), rank 0 alone reports and
   // writes the files
   opt.writer = process_rank() == 0;
@@ -198,6 +200,7 @@ int cmd_sweep(const RunArgs& a, const std::string& vary) {
     RunOptions opt;
     opt.out_dir = out + "/" + safe_name(key + "=" + values[i]);
     opt.threads = a.threads;
+    opt.replicas = a.replicas;
     opt.progress = !a.quiet;
     fmt::print("sweep {}/{}: {} = {}\n", i + 1, values.size(), key, values[i]);
     std::fflush(stdout);
@@ -238,6 +241,11 @@ void add_run_options(CLI::App* cmd, RunArgs& a) {
                   "override a case key, section.key=value (TOML value; repeatable; validated "
                   "like the file)");
   cmd->add_option("--threads", a.threads, "threads for the solver")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_option("--replicas", a.replicas,
+                  "DEM: independent runs side by side (seeds dem.seed, dem.seed + 1, ...; one "
+                  "bed each; the threads shared out), pooled with errors from their spread")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd->add_flag("--quiet", a.quiet, "no progress lines");

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <limits>
+#include <exception>
 #include <stdexcept>
+#include <thread>
 
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
@@ -14,6 +16,7 @@
 #include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/replica_pool.h"
 #include "grainlift/shared/rheology_cache.h"
 #include "grainlift/shared/surface_stress.h"
 
@@ -224,6 +227,8 @@ RunResult to_result(const Case& c, const DemOutput& out) {
                  {"steps", out.steps},
                  {"list_builds", out.list_builds},
                  {"threads_used", out.threads_used},
+                 {"threads_allowed", out.threads_allowed},
+                 {"steps_on_team", out.steps_on_team},
                  {"packing_from_cache", out.packing_from_cache ? 1 : 0},
                  {"samples", static_cast<long long>(out.samples.size())},
                  {"steady_start_sample", static_cast<long long>(out.steady_start_index)}};
@@ -302,23 +307,148 @@ DemConfig make_dem_config(const Case& c, int threads) {
   return d;
 }
 
+namespace {
+
+/// Relative standard errors of the mean drag and lift of the steady samples so far (block
+/// averages over the case's blocks, corrected for correlated blocks), NaN until there are
+/// output.blocks blocks of at least kMinBlockSamples samples each.
+struct RelativeErrors {
+  double drag = std::numeric_limits<double>::quiet_NaN();
+  double lift = std::numeric_limits<double>::quiet_NaN();
+};
+constexpr std::size_t kMinBlockSamples = 5;
+
+RelativeErrors relative_errors(const Case& c, const DemOutput& o) {
+  RelativeErrors e;
+  const std::size_t first = o.steady_start_index;
+  const std::size_t B = std::size_t(c.output.blocks);
+  if (first >= o.samples.size() || o.samples.size() - first < B * kMinBlockSamples) return e;
+  std::vector<double> drag, lift;
+  drag.reserve(o.samples.size() - first);
+  lift.reserve(o.samples.size() - first);
+  for (std::size_t i = first; i < o.samples.size(); ++i) {
+    const DragLift dl = project_drag_lift(o.samples[i].fx, o.samples[i].fy, c.intruder.velocity[0],
+                                          c.intruder.velocity[1]);
+    drag.push_back(dl.drag);
+    lift.push_back(dl.lift);
+  }
+  const BlockMean d = block_mean(drag, B), l = block_mean(lift, B);
+  e.drag = d.stderr_corrected / std::abs(d.mean);
+  e.lift = l.stderr_corrected / std::abs(l.mean);
+  return e;
+}
+
+std::string percent(double x) {
+  return std::isfinite(x) ? fmt::format("{:.1f}%", 100 * x) : std::string("?");
+}
+
+/// One run of the case on the bed of @p cfg (its seed). @p target: the relative error that
+/// ends it (0: off); @p progress: the reporter, or nullptr for a silent replica; @p tag: the
+/// progress line's prefix of the error.
+RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressReporter* progress,
+                  const std::string& tag) {
+  // The current errors on the progress line; with a target, the run ends once both are at or
+  // below it.
+  const RunMonitor monitor = [&](const DemOutput& so_far) {
+    const RelativeErrors e = relative_errors(c, so_far);
+    MonitorVerdict v;
+    v.status = fmt::format("{}error drag {} lift {}", tag, percent(e.drag), percent(e.lift));
+    if (target > 0) {
+      v.status += fmt::format(" (target {})", percent(target));
+      v.stop = e.drag <= target && e.lift <= target;
+    }
+    return v;
+  };
+  DemOutput out;
+  try {
+    if (progress) {
+      out = run_simulation(
+          cfg, [&](double fraction, const char* phase) { progress->update(fraction, phase); },
+          monitor,
+          [&](double fraction, const std::string& status) {
+            progress->update(fraction, "run", status);
+          });
+    } else {
+      out = run_simulation(cfg, {}, target > 0 ? monitor : RunMonitor{}, {});
+    }
+  } catch (const ConfigError& e) {
+    throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
+  } catch (const RunFailure& e) {
+    throw RunError(e.what());
+  }
+  RunResult r = to_result(c, out);
+  if (target > 0) {
+    const RelativeErrors final_errors = relative_errors(c, out);
+    const double travel = c.dem.travel * double(out.steps) / double(out.planned_steps);
+    Diagnostics& diag = r.diagnostics;
+    diag.values["target_error"] = target;
+    diag.values["drag_relative_error"] = final_errors.drag;
+    diag.values["lift_relative_error"] = final_errors.lift;
+    diag.values["travel_run"] = travel;
+    diag.counts["target_error_reached"] = out.stopped_early ? 1 : 0;
+    const std::string what = fmt::format(
+        "{}relative errors drag {} lift {} (block averages corrected for correlation)", tag,
+        percent(final_errors.drag), percent(final_errors.lift));
+    if (out.stopped_early) {
+      r.meta.notes += fmt::format("; target error {} reached after {:.4g} d of travel: {}",
+                                  percent(target), travel, what);
+    } else {
+      const std::string warning =
+          fmt::format("warning: target error {} not reached in dem.travel = {:g} d: {}",
+                      percent(target), c.dem.travel, what);
+      if (progress) progress->message(warning);
+      r.meta.notes += "; " + warning;
+    }
+  }
+  return r;
+}
+
+/// --replicas N: N runs side by side, seeds dem.seed + k (one bed each), the threads shared
+/// out (at least one each), pooled (pool_replicas). With dem.target_error each replica stops
+/// at target sqrt(N), so that the pooled error is about the target.
+RunResult run_replicas(const Case& c, const RunOptions& opt, ProgressReporter& progress) {
+  const int n = opt.replicas;
+  const int threads = std::max(1, opt.threads / n);
+  const double target = c.dem.target_error * std::sqrt(double(n));
+  std::vector<RunResult> results(static_cast<std::size_t>(n));
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+  std::vector<std::thread> workers;
+  for (int k = 0; k < n; ++k) {
+    workers.emplace_back([&, k] {
+      try {
+        DemConfig cfg = make_dem_config(c, threads);
+        cfg.seed = c.dem.seed + std::uint64_t(k);
+        // replica 0 reports for all (they run the same length)
+        results[std::size_t(k)] = run_one(c, cfg, target, k == 0 ? &progress : nullptr,
+                                          fmt::format("replica 1/{}: ", n));
+      } catch (...) {
+        errors[std::size_t(k)] = std::current_exception();
+      }
+    });
+  }
+  for (auto& w : workers) w.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  RunResult pooled = pool_replicas(results);
+  pooled.meta.notes += fmt::format(
+      "; pooled over {} replicas (seeds {} to {}, {} thread(s) each): means and errors from "
+      "the spread between replicas; force series, lid and far field of the first",
+      n, c.dem.seed, c.dem.seed + std::uint64_t(n - 1), threads);
+  std::vector<double> seeds;
+  for (int k = 0; k < n; ++k) seeds.push_back(double(c.dem.seed + std::uint64_t(k)));
+  pooled.diagnostics.series["replica_seed"] = seeds;
+  return pooled;
+}
+
+}  // namespace
+
 SolverEntry solver_entry() {
   SolverEntry e;
   e.name = "dem";
   e.description = "discrete element method, 2D frictional disks (Kumar 2019 contact law)";
   e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
-    const DemConfig cfg = make_dem_config(c, opt.threads);
-    DemOutput out;
-    try {
-      out = run_simulation(cfg, [&](double fraction, const char* phase) {
-        progress.update(fraction, phase);
-      });
-    } catch (const ConfigError& e) {
-      throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
-    } catch (const RunFailure& e) {
-      throw RunError(e.what());
-    }
-    return to_result(c, out);
+    if (opt.replicas > 1) return run_replicas(c, opt, progress);
+    return run_one(c, make_dem_config(c, opt.threads), c.dem.target_error, &progress, "");
   };
   return e;
 }

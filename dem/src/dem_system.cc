@@ -24,6 +24,7 @@
 #include "grainlift/dem/dem_system.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 
@@ -79,7 +80,12 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   }
   skin_ = opt_.skin > 0 ? opt_.skin : 0.2 * rmax;
   // Below ~kMinGrainsPerThread grains per thread the fork-join costs more than it saves.
-  team_ = std::max(1, std::min({opt_.threads, n_grains_ / kMinGrainsPerThread, kMaxTeam}));
+  team_max_ = std::max(1, std::min({opt_.threads, n_grains_ / kMinGrainsPerThread, kMaxTeam}));
+  team_ = team_max_;
+  tune_phase_ = 0;
+  tune_left_ = kTrialSteps;
+  tune_seconds_[0] = tune_seconds_[1] = 0;
+  tune_steps_[0] = tune_steps_[1] = 0;
   nl_.clear();
   ic_ = IntruderContacts{};
   ic_old_ = IntruderContacts{};
@@ -255,11 +261,50 @@ double DemSystem::current_max_overlap_fraction() const {
   return worst;
 }
 
+void DemSystem::choose_team() {
+  int want = team_max_;
+  if (team_max_ > 1) {
+    if (tune_left_ <= 0) {
+      if (tune_phase_ == 1) {
+        // both trials done: the faster per step (a tie goes to one thread: it frees a core)
+        const double one = tune_seconds_[0] / double(std::max(1LL, tune_steps_[0]));
+        const double team = tune_seconds_[1] / double(std::max(1LL, tune_steps_[1]));
+        tune_best_ = team < one ? team_max_ : 1;
+      }
+      tune_phase_ = (tune_phase_ + 1) % 3;
+      tune_left_ = tune_phase_ == 2 ? kExploitSteps : kTrialSteps;
+      if (tune_phase_ == 0) {
+        tune_seconds_[0] = tune_seconds_[1] = 0;
+        tune_steps_[0] = tune_steps_[1] = 0;
+      }
+    }
+    want = tune_phase_ == 0 ? 1 : tune_phase_ == 1 ? team_max_ : tune_best_;
+  }
+  // the two paths keep different per-pair state between steps (one thread sums forces in the
+  // pair loop and may skip the per-pair stores): the first step after a change checks every pair
+  if (want != team_) full_history_check_ = true;
+  team_ = want;
+}
+
+void DemSystem::account_segment(long long steps, double seconds) {
+  (team_ > 1 ? steps_on_team_ : steps_on_one_) += steps;
+  if (team_max_ == 1) return;
+  if (tune_phase_ < 2) {
+    tune_seconds_[tune_phase_] += seconds;
+    tune_steps_[tune_phase_] += steps;
+  }
+  tune_left_ -= steps;
+}
+
 void DemSystem::advance(long long n) {
   prepare();
   long long done = 0;
   while (done < n) {
-    done += team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
+    choose_team();
+    const auto t0 = std::chrono::steady_clock::now();
+    const long long k = team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
+    account_segment(k, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    done += k;
     if (drifted_) build_lists();
   }
 }

@@ -102,6 +102,12 @@ double validate_config(const DemConfig& c) {
 }
 
 DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
+  return run_simulation(c, progress, {}, {});
+}
+
+DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
+                         const RunMonitor& monitor,
+                         const std::function<void(double, const std::string&)>& status_progress) {
   DemOutput out;
   out.collision_time = validate_config(c);
   const double d = c.grain_diameter;
@@ -145,6 +151,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   const long long n_steps = static_cast<long long>(std::ceil(c.travel * d / (speed * c.dt) - 1e-9));
   const double steady_time = c.steady_travel * d / speed;
   const long long progress_every = std::max(1LL, n_steps / 100);
+  const bool report = progress || monitor;
   out.samples.reserve(static_cast<std::size_t>(n_steps / c.sample_every + 1));
   out.steady_start_index = static_cast<std::size_t>(-1);
   FieldAccumulator fields(c.fields);
@@ -155,7 +162,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   for (long long k = 0; k < n_steps;) {
     long long next = std::min(n_steps, next_multiple(k, c.sample_every));
     if (c.fields.enabled) next = std::min(next, next_multiple(k, c.field_every));
-    if (progress) next = std::min(next, next_multiple(k, progress_every));
+    if (report) next = std::min(next, next_multiple(k, progress_every));
     s.advance(next - k);
     k = next;
     const double t = s.time();
@@ -207,15 +214,30 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
     if (c.fields.enabled && k % c.field_every == 0 && t >= steady_time * (1 - 1e-12)) {
       fields.add_snapshot(s);
     }
-    if (progress && (k % progress_every == 0 || k == n_steps)) {
-      progress(static_cast<double>(k) / static_cast<double>(n_steps), "run");
+    if (report && (k % progress_every == 0 || k == n_steps)) {
+      const double fraction = static_cast<double>(k) / static_cast<double>(n_steps);
+      MonitorVerdict v;
+      if (monitor && out.steady_start_index != static_cast<std::size_t>(-1)) v = monitor(out);
+      if (status_progress) {
+        status_progress(fraction, v.status);
+      } else if (progress) {
+        progress(fraction, "run");
+      }
+      if (v.stop && k < n_steps) {
+        out.stopped_early = true;
+        out.steps = k;
+        break;
+      }
     }
   }
   if (out.steady_start_index == static_cast<std::size_t>(-1)) out.steady_start_index = out.samples.size();
   if (c.fields.enabled) out.fields = fields.finish();
-  out.steps = n_steps;
+  if (!out.stopped_early) out.steps = n_steps;
+  out.planned_steps = n_steps;
   out.list_builds = s.list_builds();
   out.threads_used = s.threads_used();
+  out.threads_allowed = s.threads_allowed();
+  out.steps_on_team = s.steps_on_team();
   return out;
 }
 

@@ -115,6 +115,10 @@ std::vector<KeySpec> make_keys() {
                    "distance the intruder travels, in mean grain diameters"));
   k.push_back(real("dem.steady_travel", false, "30.0", 0, 1e6, false, false, "d",
                    "travel before averaging starts (less than dem.travel)"));
+  k.push_back(real("dem.target_error", false, "0.0", 0, 1, false, true, "-",
+                   "stop once the relative standard errors of the mean drag and of the mean lift "
+                   "(block averages, corrected for correlated blocks) are both at most this; "
+                   "0: run the whole dem.travel, which remains the limit"));
   k.push_back(integer("dem.seed", "1", 0, 9.2e18, "random seed: packing and size distribution"));
   k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
   k.push_back(integer("dem.field_every", "500", 1, 1e9,

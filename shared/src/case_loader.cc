@@ -505,6 +505,7 @@ Case build_case(const toml::table& root) {
   dm.max_dt_fraction = get_real(r, "dem.max_dt_fraction");
   dm.travel = get_real(r, "dem.travel");
   dm.steady_travel = get_real(r, "dem.steady_travel");
+  dm.target_error = get_real(r, "dem.target_error");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));
   dm.field_every = int(get_int(r, "dem.field_every"));

@@ -1,5 +1,6 @@
 #include "grainlift/shared/force_statistics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -38,6 +39,13 @@ BlockMean block_mean(const std::vector<double>& series, std::size_t blocks) {
   r.samples = len * B;
   r.stderr_ = B >= 2 ? std::sqrt(var / double(B - 1) / double(B))
                      : std::numeric_limits<double>::quiet_NaN();
+  if (B >= 3 && var > 0) {
+    double c1 = 0;
+    for (std::size_t b = 0; b + 1 < B; ++b) c1 += (means[b] - mean) * (means[b + 1] - mean);
+    r.lag1 = c1 / var;
+  }
+  const double rho = std::min(0.9, std::max(0.0, r.lag1));
+  r.stderr_corrected = r.stderr_ * std::sqrt((1 + rho) / (1 - rho));
   return r;
 }
 

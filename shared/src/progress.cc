@@ -20,7 +20,8 @@ ProgressReporter::ProgressReporter(std::string label, bool enabled)
     : label_(std::move(label)), enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()), phase_start_(start_), last_print_(start_) {}
 
-void ProgressReporter::update(double fraction, const std::string& phase) {
+void ProgressReporter::update(double fraction, const std::string& phase,
+                              const std::string& detail) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
   if (phase != phase_) {
@@ -33,9 +34,10 @@ void ProgressReporter::update(double fraction, const std::string& phase) {
   fraction = std::min(1.0, std::max(0.0, fraction));
   const double elapsed = std::chrono::duration<double>(now - phase_start_).count();
   const double eta = fraction > 1e-6 ? elapsed * (1 - fraction) / fraction : NAN;
-  const std::string line =
+  std::string line =
       fmt::format("[{}] {:<8} {:5.1f}%  elapsed {}  ETA {}", label_, phase, 100 * fraction,
                   format_duration(elapsed), fraction > 1e-6 ? format_duration(eta) : "?");
+  if (!detail.empty()) line += "  " + detail;
   if (tty_) {
     if (std::chrono::duration<double>(now - last_print_).count() < 0.2 && fraction < 1) return;
     std::fprintf(stderr, "\r%s\x1b[K", line.c_str());

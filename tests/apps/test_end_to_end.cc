@@ -161,6 +161,79 @@ TEST(EndToEnd, SweepWritesOneRowPerValue) {
   EXPECT_EQ(rows[2].rfind("intruder.omega,\"40\",dem,", 0), 0u) << rows[2];
 }
 
+// dem.target_error: the run ends at the first progress check (every 1% of dem.travel) where
+// the relative standard errors of the mean drag and lift (block averages corrected for
+// correlated blocks) are both at or below the target. On the tiny bed, 200 d allowed and a
+// target of 30%: measured a stop after 44 d with 22% and 29%. Asserted: it stops before the
+// travel, the errors it reports are at or below the target, and the file's means are the
+// samples actually run (steps / sample_every of them). A target out of reach (1% in 20 d)
+// runs the whole travel and warns.
+TEST(EndToEnd, DemRunStopsAtTheTargetError) {
+  const fs::path d = scratch();
+  std::ofstream(d / "tiny.toml") << tiny_case;
+  std::string out;
+  ASSERT_EQ(run("run " + (d / "tiny.toml").string() +
+                    " --solver dem --quiet --set output.fields=false --set output.blocks=20 "
+                    "--set dem.travel=200 --set dem.target_error=0.3 --out " +
+                    (d / "target").string(), &out),
+            0)
+      << out;
+  RunResult r = read_result((d / "target" / "dem.h5").string());
+  const auto& diag = r.diagnostics;
+  ASSERT_EQ(diag.counts.at("target_error_reached"), 1);
+  EXPECT_LT(diag.values.at("travel_run"), 200.0);
+  EXPECT_LE(diag.values.at("drag_relative_error"), 0.3);
+  EXPECT_LE(diag.values.at("lift_relative_error"), 0.3);
+  EXPECT_LE(*r.means->drag_stderr / r.means->drag, 0.3);  // plain error <= corrected error
+  const long long steps = diag.counts.at("steps");
+  EXPECT_LT(steps, 1000000);  // 200 d at 2 m/s and dt 2e-6 s
+  EXPECT_EQ(std::int64_t(r.forces->time.size()), steps / 20);  // sample_every = 20
+
+  ASSERT_EQ(run("run " + (d / "tiny.toml").string() +
+                    " --solver dem --set output.fields=false --set dem.travel=20 "
+                    "--set dem.target_error=0.01 --out " + (d / "short").string(), &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("warning: target error 1.0% not reached"), std::string::npos) << out;
+  r = read_result((d / "short" / "dem.h5").string());
+  EXPECT_EQ(r.diagnostics.counts.at("target_error_reached"), 0);
+  EXPECT_EQ(r.diagnostics.counts.at("steps"), 100000);
+}
+
+// --replicas N runs N independent beds (seeds dem.seed + k) side by side and pools them: each
+// replica's means are the bits of the same seed run alone (same code on one thread), the
+// pooled drag is their mean and its error their standard deviation / sqrt(N), exactly.
+TEST(EndToEnd, ReplicasPoolIndependentBeds) {
+  const fs::path d = scratch();
+  std::ofstream(d / "tiny.toml") << tiny_case;
+  std::string out;
+  ASSERT_EQ(run("run " + (d / "tiny.toml").string() +
+                    " --solver dem --quiet --replicas 3 --threads 2 --out " +
+                    (d / "rep").string(), &out),
+            0)
+      << out;
+  const RunResult pooled = read_result((d / "rep" / "dem.h5").string());
+  const auto& drag = pooled.diagnostics.series.at("replica_drag");
+  const auto& seeds = pooled.diagnostics.series.at("replica_seed");
+  ASSERT_EQ(drag.size(), 3u);
+  EXPECT_EQ(seeds, (std::vector<double>{1, 2, 3}));
+  EXPECT_EQ(pooled.diagnostics.counts.at("replicas"), 3);
+  double mean = 0, ss = 0;
+  for (double x : drag) mean += x / 3;
+  for (double x : drag) ss += (x - mean) * (x - mean);
+  EXPECT_NEAR(pooled.means->drag, mean, 1e-12 * std::abs(mean));
+  EXPECT_NEAR(*pooled.means->drag_stderr, std::sqrt(ss / 2 / 3), 1e-12 * std::abs(mean));
+  EXPECT_EQ(pooled.means->blocks, 3);
+  ASSERT_TRUE(pooled.surface && pooled.surface->sigma_n_stderr && pooled.fields);
+  ASSERT_EQ(run("run " + (d / "tiny.toml").string() + " --solver dem --quiet --set dem.seed=2 --out " +
+                    (d / "seed2").string(), &out),
+            0)
+      << out;
+  const RunResult alone = read_result((d / "seed2" / "dem.h5").string());
+  EXPECT_EQ(alone.means->drag, drag[1]);
+  EXPECT_EQ(alone.means->lift, pooled.diagnostics.series.at("replica_lift")[1]);
+}
+
 TEST(EndToEnd, TooLargeTimeStepIsBadInput) {
   const fs::path d = scratch();
   std::ofstream(d / "tiny.toml") << tiny_case;

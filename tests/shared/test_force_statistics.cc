@@ -53,3 +53,41 @@ TEST(BlockMean, DropsTheOldestRemainderAndHandlesShortSeries) {
   EXPECT_DOUBLE_EQ(one.mean, 4.0);
   EXPECT_TRUE(std::isnan(one.stderr_));
 }
+
+TEST(BlockMean, CorrelationCorrectionRestoresTheErrorOfShortBlocks) {
+  // An AR(1) series x_{i+1} = a x_i + e with a = 0.999 (correlation time 1000 samples) in 40
+  // blocks of 250 samples: neighbouring block means are correlated, the plain block error is
+  // too small. The true standard error of the mean of n samples is
+  // sigma_e / (1 - a) / sqrt(n) (long-series limit). Over 200 series: the corrected error's
+  // mean is within 30% of it, the plain one more than 30% below it.
+  const double a = 0.999, sigma_e = 1.0;
+  const std::size_t n = 10000;
+  const double truth = sigma_e / (1 - a) / std::sqrt(double(n));
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0.0, sigma_e);
+  double plain = 0, corrected = 0;
+  const int series = 200;
+  for (int s = 0; s < series; ++s) {
+    std::vector<double> x(n);
+    double v = g(rng) / std::sqrt(1 - a * a);  // stationary start
+    for (auto& xi : x) xi = v = a * v + g(rng);
+    const BlockMean m = block_mean(x, 40);
+    EXPECT_GE(m.stderr_corrected, m.stderr_);
+    plain += m.stderr_ / series;
+    corrected += m.stderr_corrected / series;
+  }
+  EXPECT_LT(plain, 0.7 * truth);
+  EXPECT_NEAR(corrected, truth, 0.3 * truth);
+}
+
+TEST(BlockMean, NoCorrectionForIndependentBlocks) {
+  // White noise: lag-1 correlation of block means ~ N(0, 1/B); the correction stays within
+  // the clip sqrt(1.9/0.1) only in theory, in practice near 1: within 40% for 40 blocks.
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> x(40000);
+  for (auto& v : x) v = g(rng);
+  const BlockMean m = block_mean(x, 40);
+  EXPECT_LT(std::abs(m.lag1), 0.4);
+  EXPECT_LT(m.stderr_corrected, 1.4 * m.stderr_);
+}

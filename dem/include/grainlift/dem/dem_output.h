@@ -58,9 +58,13 @@ struct DemOutput {
   double achieved_area_fraction = 0;
   double collision_time = 0;              ///< s, binary collision time used for the dt check
   bool packing_from_cache = false;
-  long long steps = 0;
+  long long steps = 0;                    ///< steps run
+  long long planned_steps = 0;            ///< steps of the whole travel
+  bool stopped_early = false;             ///< a RunMonitor ended the run before the travel
   int list_builds = 0;                    ///< Verlet-list builds during the run
   int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)
+  int threads_allowed = 1;                ///< threads it could use (DemSystem::threads_allowed)
+  long long steps_on_team = 0;            ///< steps run on threads_allowed (> 1) threads
   std::vector<LidSample> lid;             ///< one per force sample; empty without a lid
   double lid_mass = 0, lid_damping = 0;   ///< kg, kg/s: the lid actually used
   /// one per force sample when the per-pair forces are kept (fields or a lid); else empty

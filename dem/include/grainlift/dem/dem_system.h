@@ -158,8 +158,15 @@ class DemSystem {
   double normal_elastic_energy() const;
   /// Number of neighbour-list builds so far.
   int list_builds() const { return builds_; }
-  /// Threads the step runs on: min(threads, grains / kMinGrainsPerThread), at least 1.
-  int threads_used() const { return team_; }
+  /// Threads the step may run on: min(threads, grains / kMinGrainsPerThread), at least 1.
+  int threads_allowed() const { return team_max_; }
+  /// Threads the step ran on for most of its steps: with more than one allowed, advance()
+  /// times the step on one thread and on threads_allowed() now and then and runs on the faster
+  /// (the same bits either way); see choose_team().
+  int threads_used() const { return steps_on_team_ > steps_on_one_ ? team_max_ : 1; }
+  /// Steps run on one thread and on the team so far.
+  std::int64_t steps_on_one_thread() const { return steps_on_one_; }
+  std::int64_t steps_on_team() const { return steps_on_team_; }
 
  private:
   void build_lists();
@@ -216,7 +223,21 @@ class DemSystem {
   LawCoefficients law_;
   double mu_ = 0, mu_intruder_ = 0;
   double skin_ = 0;
-  int team_ = 1;  ///< threads actually used
+  int team_ = 1;      ///< threads of the current segment (1 or team_max_)
+  int team_max_ = 1;  ///< threads allowed
+  /// The team size of the next segment: measured trials of one thread and of team_max_
+  /// (kTrialSteps each), then the faster for kExploitSteps, again and again (the work per step
+  /// changes as the intruder builds its front). Sets full_history_check_ on a change.
+  void choose_team();
+  /// Adds a segment's steps and wall time to the current trial.
+  void account_segment(long long steps, double seconds);
+  static constexpr long long kTrialSteps = 2000, kExploitSteps = 100000;
+  int tune_phase_ = 0;            ///< 0: trial on one thread, 1: trial on the team, 2: exploit
+  long long tune_left_ = kTrialSteps;  ///< steps left in the phase
+  double tune_seconds_[2] = {0, 0};    ///< wall time of the trials (one thread, team)
+  long long tune_steps_[2] = {0, 0};   ///< their steps
+  int tune_best_ = 1;                  ///< team size of the exploit phase
+  std::int64_t steps_on_one_ = 0, steps_on_team_ = 0;
   bool store_pair_forces_ = true;
   double damping_rate_ = 0;
   double growth_since_build_ = 0;  ///< m, largest radius increase since the last build

@@ -1,6 +1,9 @@
 // Public entry point of the DEM engine: one run of an intruder driven through a 2D bed.
 #pragma once
 
+#include <functional>
+#include <string>
+
 #include "grainlift/dem/dem_config.h"
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
@@ -20,5 +23,20 @@ double validate_config(const DemConfig& cfg);
 /// @throws ConfigError for a bad configuration (dt too large, ...), RunFailure when the run
 /// blows up (non-finite state, overlap above cfg.max_overlap_fraction of a diameter).
 DemOutput run_simulation(const DemConfig& cfg, const ProgressCallback& progress = {});
+
+/// What a run monitor says of the output so far.
+struct MonitorVerdict {
+  bool stop = false;   ///< end the run now (DemOutput::stopped_early)
+  std::string status;  ///< short text for the progress line ("" for none)
+};
+/// Looks at the samples so far (after every progress report, at most ~100 times per run).
+using RunMonitor = std::function<MonitorVerdict(const DemOutput& so_far)>;
+
+/// @brief The same run, with @p monitor asked after every progress report whether to stop
+/// (for example when the standard errors have reached a target); its status is passed to
+/// @p status_progress with the fraction of the steps done.
+DemOutput run_simulation(const DemConfig& cfg, const ProgressCallback& progress,
+                         const RunMonitor& monitor,
+                         const std::function<void(double, const std::string&)>& status_progress);
 
 }  // namespace grainlift::dem

@@ -62,6 +62,7 @@ struct DemSection {
   double max_dt_fraction{};
   double travel{};          ///< mean grain diameters
   double steady_travel{};    ///< mean grain diameters
+  double target_error{};     ///< relative standard error of drag and lift that ends a run (0: off)
   std::uint64_t seed{};
   int sample_every{};
   int field_every{};

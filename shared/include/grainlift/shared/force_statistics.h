@@ -19,6 +19,12 @@ DragLift project_drag_lift(double fx, double fy, double vx, double vy);
 struct BlockMean {
   double mean = 0;
   double stderr_ = 0;   ///< standard deviation of the block means / sqrt(B)
+  /// Lag-1 autocorrelation of the block means (0 with fewer than 3 blocks).
+  double lag1 = 0;
+  /// stderr_ corrected for a correlation between neighbouring blocks (blocks shorter than the
+  /// series' correlation time): stderr_ sqrt((1 + r) / (1 - r)), r = lag1 clipped to [0, 0.9]
+  /// (the AR(1) variance of a mean; never smaller than stderr_).
+  double stderr_corrected = 0;
   std::size_t blocks = 0, samples = 0;
 };
 /// @param series samples after the steady-state start; @param blocks B >= 2 requested (fewer

@@ -12,7 +12,8 @@ class ProgressReporter {
   /// @param label prefix such as "dem"; @param enabled false silences it.
   ProgressReporter(std::string label, bool enabled);
   /// @param fraction done in [0, 1]; @param phase short name ("packing", "run", "newton").
-  void update(double fraction, const std::string& phase);
+  /// @param detail appended to the line (a current error, ...); changing it starts no new line.
+  void update(double fraction, const std::string& phase, const std::string& detail = "");
   /// A free-form line (kept short), printed above the progress line.
   void message(const std::string& text);
   /// Ends the progress line.

@@ -16,6 +16,9 @@ namespace grainlift {
 struct RunOptions {
   std::string out_dir = "out";
   int threads = 1;
+  /// independent DEM runs side by side (seeds dem.seed + k), pooled (replica_pool.h); the
+  /// continuum, deterministic, runs once
+  int replicas = 1;
   bool progress = true;
   /// false on the MPI ranks other than 0 of a distributed run: they solve but write nothing
   bool writer = true;
