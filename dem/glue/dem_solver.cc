@@ -3,8 +3,12 @@
 #include "grainlift/dem/dem_solver.h"
 
 #include <fmt/format.h>
+#include <omp.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <exception>
 #include <stdexcept>
@@ -403,6 +407,25 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
   return r;
 }
 
+/// With OpenMP thread binding on (OMP_PROC_BIND), the main thread is bound to one place and
+/// a std::thread inherits that binding: all replicas would share one core. The processors of
+/// each place (asked on the main thread, where OpenMP's settings apply), to bind replica k to
+/// place k mod (number of places); empty without binding (the scheduler places them). The
+/// engine opens no OpenMP region on one thread, which would bind the worker to the first place.
+std::vector<cpu_set_t> replica_places() {
+  std::vector<cpu_set_t> places;
+  if (omp_get_proc_bind() == omp_proc_bind_false) return places;
+  for (int p = 0; p < omp_get_num_places(); ++p) {
+    std::vector<int> ids(static_cast<std::size_t>(omp_get_place_num_procs(p)));
+    omp_get_place_proc_ids(p, ids.data());
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    for (int id : ids) CPU_SET(id, &set);
+    places.push_back(set);
+  }
+  return places;
+}
+
 /// --replicas N: N runs side by side, seeds dem.seed + k (one bed each), the threads shared
 /// out (at least one each), pooled (pool_replicas). With dem.target_error each replica stops
 /// at target sqrt(N), so that the pooled error is about the target.
@@ -413,8 +436,13 @@ RunResult run_replicas(const Case& c, const RunOptions& opt, ProgressReporter& p
   std::vector<RunResult> results(static_cast<std::size_t>(n));
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
   std::vector<std::thread> workers;
+  const std::vector<cpu_set_t> places = replica_places();
   for (int k = 0; k < n; ++k) {
     workers.emplace_back([&, k] {
+      if (!places.empty()) {
+        const cpu_set_t& set = places[static_cast<std::size_t>(k) % places.size()];
+        pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+      }
       try {
         DemConfig cfg = make_dem_config(c, threads);
         cfg.seed = c.dem.seed + std::uint64_t(k);

@@ -27,6 +27,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 
 #include "grainlift/dem/errors.h"
 
@@ -263,7 +265,12 @@ double DemSystem::current_max_overlap_fraction() const {
 
 void DemSystem::choose_team() {
   int want = team_max_;
-  if (team_max_ > 1) {
+  // GRAINLIFT_TEAM=fixed: always the whole team (benchmarks of the threaded step itself)
+  static const bool fixed = [] {
+    const char* v = std::getenv("GRAINLIFT_TEAM");
+    return v && std::string(v) == "fixed";
+  }();
+  if (team_max_ > 1 && !fixed) {
     if (tune_left_ <= 0) {
       if (tune_phase_ == 1) {
         // both trials done: the faster per step (a tie goes to one thread: it frees a core)

@@ -75,10 +75,8 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
   thread_count_.resize(nt);
   first.resize(static_cast<std::size_t>(n_mobile) + 1);
   first[0] = 0;
-#pragma omp parallel num_threads(nt)
-  {
-    const int t = omp_get_thread_num();
-    const int nth = omp_get_num_threads();
+  // rows [lo, hi) of thread t of nth
+  auto rows = [&](int t, int nth) {
     const int lo = static_cast<int>(static_cast<std::int64_t>(n_mobile) * t / nth);
     const int hi = static_cast<int>(static_cast<std::int64_t>(n_mobile) * (t + 1) / nth);
     std::vector<int>& out = thread_partner_[t];
@@ -117,6 +115,14 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
       out.erase(std::unique(out.begin() + row_begin, out.end()), out.end());
       counts.push_back(static_cast<std::int64_t>(out.size() - row_begin));
     }
+  };
+  // one thread: no OpenMP region at all (a region started from a thread that is not OpenMP's,
+  // such as a --replicas worker, would bind that thread to the first place under OMP_PROC_BIND)
+  if (nt == 1) {
+    rows(0, 1);
+  } else {
+#pragma omp parallel num_threads(nt)
+    rows(omp_get_thread_num(), omp_get_num_threads());
   }
   // concatenate in row order
   {
@@ -149,19 +155,22 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
 
   // ---- carry the history of surviving pairs over (rows sorted by j on both sides)
   const int merge_rows = std::min(old_rows, n_mobile);
-  if (!old_partner_.empty()) {
-#pragma omp parallel for schedule(static) num_threads(nt)
-    for (int i = 0; i < merge_rows; ++i) {
-      std::int64_t a = old_first_[i];
-      const std::int64_t ae = old_first_[i + 1];
-      for (std::int64_t b = first[i]; b < first[i + 1] && a < ae; ++b) {
-        while (a < ae && old_partner_[a] < partner[b]) ++a;
-        if (a < ae && old_partner_[a] == partner[b]) {
-          sx[b] = old_sx_[a];
-          sy[b] = old_sy_[a];
-        }
+  auto merge_row = [&](int i) {
+    std::int64_t a = old_first_[i];
+    const std::int64_t ae = old_first_[i + 1];
+    for (std::int64_t b = first[i]; b < first[i + 1] && a < ae; ++b) {
+      while (a < ae && old_partner_[a] < partner[b]) ++a;
+      if (a < ae && old_partner_[a] == partner[b]) {
+        sx[b] = old_sx_[a];
+        sy[b] = old_sy_[a];
       }
     }
+  };
+  if (!old_partner_.empty() && nt == 1) {
+    for (int i = 0; i < merge_rows; ++i) merge_row(i);
+  } else if (!old_partner_.empty()) {
+#pragma omp parallel for schedule(static) num_threads(nt)
+    for (int i = 0; i < merge_rows; ++i) merge_row(i);
   }
 
   // ---- reverse index: pairs where a particle is the partner, in pair order

@@ -227,7 +227,9 @@ class DemSystem {
   int team_max_ = 1;  ///< threads allowed
   /// The team size of the next segment: measured trials of one thread and of team_max_
   /// (kTrialSteps each), then the faster for kExploitSteps, again and again (the work per step
-  /// changes as the intruder builds its front). Sets full_history_check_ on a change.
+  /// changes as the intruder builds its front). Sets full_history_check_ on a change. The
+  /// environment variable GRAINLIFT_TEAM=fixed keeps the whole team (benchmarks of the threaded
+  /// step itself).
   void choose_team();
   /// Adds a segment's steps and wall time to the current trial.
   void account_segment(long long steps, double seconds);

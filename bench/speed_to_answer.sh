@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# The benchmarks of `make bench`: time to an answer where production runs spend their time,
+# as ratios measured back to back on this machine (docs/performance.md quotes them).
+#
+#   bench/speed_to_answer.sh [build dir (build)] [sections ("lammps threads replicas fields error")]
+#
+#   lammps    grainlift against LAMMPS on the whole reduced dense Kumar run from the same bed
+#             (bench/compare_lammps_production.sh; skipped with a message without `lmp`)
+#   threads   two threads against one: the step on the dense and jammed 26,000-grain beds
+#             (dem_throughput, Google Benchmark), and the whole reduced run (2,295 grains)
+#   replicas  --replicas 2 against one run, both on --threads 2: statistics per wall second
+#   fields    the saving of not accumulating fields (output.fields = false) on the reduced run
+#   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
+#             the reduced Kumar run and cases/guillard2014/gradient.toml
+#
+# Environment: WORK (outputs, default /tmp/grainlift_speed), PYTHON (default /usr/bin/python3),
+# OMP_PROC_BIND / OMP_PLACES (default true / cores). About 12 minutes on 2 cores.
+set -euo pipefail
+BUILD=${1:-build}
+SECTIONS=${2:-"lammps threads replicas fields error"}
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/.." && pwd)
+WORK=${WORK:-/tmp/grainlift_speed}
+PY=${PYTHON:-/usr/bin/python3}
+GL="$BUILD/bin/grainlift"
+export OMP_PROC_BIND=${OMP_PROC_BIND:-true} OMP_PLACES=${OMP_PLACES:-cores}
+mkdir -p "$WORK"
+# the reduced dense Kumar production run: Phi 0.8, 2,295 grains, V0 0.25 m/s, Omega 1, 30 d
+KUMAR="$ROOT/cases/kumar2019/reduced_phi080.toml"
+KSET=(--set "intruder.velocity=[0.25,0.0]" --set intruder.omega=5.0 --set dem.travel=30)
+has() { [[ " $SECTIONS " == *" $1 "* ]]; }
+wall() { "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' "$1/summary.json"; }
+# the packing once, so that no timed run prepares it
+"$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.travel=16 --out "$WORK/prep" --quiet >/dev/null
+
+echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
+
+if has lammps; then
+  echo; echo "## DEM against LAMMPS, whole production run (one thread each)"
+  if command -v "${LMP:-lmp}" >/dev/null && [[ -x "$BUILD/bin/dem_export_lammps_case" ]]; then
+    WORK="$WORK/lammps" bash "$HERE/compare_lammps_production.sh" "$BUILD" "${REPS:-1}"
+  else
+    echo "skipped: needs LAMMPS (\`lmp\`, Debian package lammps) and $BUILD/bin/dem_export_lammps_case"
+  fi
+fi
+
+if has threads; then
+  echo; echo "## Two threads against one"
+  if [[ -x "$BUILD/bin/dem_throughput" ]]; then
+    GRAINLIFT_TEAM=fixed "$BUILD/bin/dem_throughput" --benchmark_filter='^BM_(Dense|Jammed)Bed/[12]/' \
+      --benchmark_format=json >"$WORK/throughput.json" 2>/dev/null
+    "$PY" - "$WORK/throughput.json" <<'PYEOF'
+import json, sys
+b = {x["name"].split("/real_time")[0]: x for x in json.load(open(sys.argv[1]))["benchmarks"]}
+print("| bed | grains | 1 thread (M grain-steps/s) | 2 threads | ratio | target |")
+print("| --- | --- | --- | --- | --- | --- |")
+for bed in ("Dense", "Jammed"):
+    one = [v for k, v in b.items() if k.startswith(f"BM_{bed}Bed/1/")][0]
+    two = [v for k, v in b.items() if k.startswith(f"BM_{bed}Bed/2/")][0]
+    rate = lambda x: x["grains"] * 100 / (x["real_time"] * 1e-3) / 1e6
+    r = rate(two) / rate(one)
+    print(f"| {bed.lower()} | {int(one['grains'])} | {rate(one):.1f} | {rate(two):.1f} | {r:.2f}x | "
+          f"{'met' if r >= 1.85 else 'not met'} (1.85x) |")
+PYEOF
+  else
+    echo "dem_throughput not built (Google Benchmark, libbenchmark-dev): step rates skipped"
+  fi
+  for t in 1 2; do
+    sleep 1
+    "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --threads "$t" --out "$WORK/threads$t" --quiet >/dev/null
+  done
+  "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
+import json, sys, h5py
+w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
+same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
+team = h5py.File(sys.argv[2] + "/dem.h5")["diagnostics"].attrs
+print(f"whole reduced run, 2,295 grains: 1 thread {w[0]['wall_seconds']:.1f} s, --threads 2 "
+      f"{w[1]['wall_seconds']:.1f} s (ratio {w[0]['wall_seconds'] / w[1]['wall_seconds']:.2f}x; "
+      f"target: never slower than one, >= 1.00x within timing noise); "
+      f"steps on the team {int(team['steps_on_team'])} of {int(team['steps'])}; same bits: {same}")
+PYEOF
+fi
+
+if has replicas; then
+  echo; echo "## Replicas against threads (both --threads 2)"
+  sleep 1
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --threads 2 --replicas 2 --out "$WORK/replicas2" --quiet >/dev/null
+  [[ -s "$WORK/threads2/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --threads 2 --out "$WORK/threads2" --quiet >/dev/null
+  one=$(wall "$WORK/threads2"); two=$(wall "$WORK/replicas2")
+  awk -v a="$one" -v b="$two" 'BEGIN {
+    printf "one run on 2 threads %.1f s; 2 replicas (1 thread each) %.1f s: %.2fx the samples per wall second (target: close to 2x)\n", a, b, 2 * a / b }'
+fi
+
+if has fields; then
+  echo; echo "## Fields off against on (one thread)"
+  sleep 1
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set output.fields=true --out "$WORK/fields_on" --quiet >/dev/null
+  [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --out "$WORK/threads1" --quiet >/dev/null
+  on=$(wall "$WORK/fields_on"); off=$(wall "$WORK/threads1")
+  awk -v a="$on" -v b="$off" 'BEGIN {
+    printf "fields on %.1f s, off %.1f s: off saves %.0f%% (the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - b / a) }'
+fi
+
+if has error; then
+  echo; echo "## Error against wall time"
+  [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --out "$WORK/threads1" --quiet >/dev/null
+  "$GL" run "$ROOT/cases/guillard2014/gradient.toml" --solver dem --out "$WORK/guillard" --quiet >/dev/null
+  "$PY" "$ROOT/scripts/error_vs_time.py" "$WORK/threads1" "$WORK/guillard"
+fi
+echo "# load after: $(cut -d' ' -f1-3 /proc/loadavg)"
