@@ -13,8 +13,10 @@
 #   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
 #             the reduced Kumar run and cases/guillard2014/gradient.toml
 #
-# Environment: WORK (outputs, default /tmp/grainlift_speed), PYTHON (default /usr/bin/python3),
-# OMP_PROC_BIND / OMP_PLACES (default true / cores). About 12 minutes on 2 cores.
+# Environment: REPS (repetitions of every timed run, default 3; medians are printed: on this
+# 2-core VM one run of the same binary on the same case took 39 to 56 s), WORK (outputs,
+# default /tmp/grainlift_speed), PYTHON (default /usr/bin/python3), OMP_PROC_BIND / OMP_PLACES
+# (default true / cores). About 25 minutes on 2 cores with REPS=3.
 set -euo pipefail
 BUILD=${1:-build}
 SECTIONS=${2:-"lammps threads replicas fields error"}
@@ -28,8 +30,24 @@ mkdir -p "$WORK"
 # the reduced dense Kumar production run: Phi 0.8, 2,295 grains, V0 0.25 m/s, Omega 1, 30 d
 KUMAR="$ROOT/cases/kumar2019/reduced_phi080.toml"
 KSET=(--set "intruder.velocity=[0.25,0.0]" --set intruder.omega=5.0 --set dem.travel=30)
+REPS=${REPS:-3}
+export REPS
 has() { [[ " $SECTIONS " == *" $1 "* ]]; }
 wall() { "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' "$1/summary.json"; }
+median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
+# timed NAME ARGS...: the reduced run with ARGS, REPS times (output in $WORK/NAME), median wall
+# time of the solver (summary.json) into $WORK/NAME.wall
+timed() {
+  local name=$1; shift
+  local w=()
+  for ((r = 0; r < REPS; ++r)); do
+    sleep 1
+    "$GL" run "$KUMAR" --solver dem "${KSET[@]}" "$@" --out "$WORK/$name" --quiet >/dev/null
+    w+=("$(wall "$WORK/$name")")
+  done
+  printf '%s\n' "${w[@]}" | median >"$WORK/$name.wall"
+  echo "# $name: ${w[*]} s"
+}
 # the packing once, so that no timed run prepares it
 "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.travel=16 --out "$WORK/prep" --quiet >/dev/null
 
@@ -38,7 +56,7 @@ echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadav
 if has lammps; then
   echo; echo "## DEM against LAMMPS, whole production run (one thread each)"
   if command -v "${LMP:-lmp}" >/dev/null && [[ -x "$BUILD/bin/dem_export_lammps_case" ]]; then
-    WORK="$WORK/lammps" bash "$HERE/compare_lammps_production.sh" "$BUILD" "${REPS:-1}"
+    WORK="$WORK/lammps" bash "$HERE/compare_lammps_production.sh" "$BUILD" "$REPS"
   else
     echo "skipped: needs LAMMPS (\`lmp\`, Debian package lammps) and $BUILD/bin/dem_export_lammps_case"
   fi
@@ -65,17 +83,16 @@ PYEOF
   else
     echo "dem_throughput not built (Google Benchmark, libbenchmark-dev): step rates skipped"
   fi
-  for t in 1 2; do
-    sleep 1
-    "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --threads "$t" --out "$WORK/threads$t" --quiet >/dev/null
-  done
+  timed threads1 --threads 1
+  timed threads2 --threads 2
   "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
 import json, sys, h5py
 w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
+t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
 same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
 team = h5py.File(sys.argv[2] + "/dem.h5")["diagnostics"].attrs
-print(f"whole reduced run, 2,295 grains: 1 thread {w[0]['wall_seconds']:.1f} s, --threads 2 "
-      f"{w[1]['wall_seconds']:.1f} s (ratio {w[0]['wall_seconds'] / w[1]['wall_seconds']:.2f}x; "
+print(f"whole reduced run, 2,295 grains (medians): 1 thread {t[0]:.1f} s, --threads 2 "
+      f"{t[1]:.1f} s (ratio {t[0] / t[1]:.2f}x; "
       f"target: never slower than one, >= 1.00x within timing noise); "
       f"steps on the team {int(team['steps_on_team'])} of {int(team['steps'])}; same bits: {same}")
 PYEOF
@@ -83,22 +100,20 @@ fi
 
 if has replicas; then
   echo; echo "## Replicas against threads (both --threads 2)"
-  sleep 1
-  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --threads 2 --replicas 2 --out "$WORK/replicas2" --quiet >/dev/null
-  [[ -s "$WORK/threads2/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --threads 2 --out "$WORK/threads2" --quiet >/dev/null
-  one=$(wall "$WORK/threads2"); two=$(wall "$WORK/replicas2")
+  timed replicas2 --threads 2 --replicas 2
+  [[ -s "$WORK/threads2.wall" ]] || timed threads2 --threads 2
+  one=$(cat "$WORK/threads2.wall"); two=$(cat "$WORK/replicas2.wall")
   awk -v a="$one" -v b="$two" 'BEGIN {
-    printf "one run on 2 threads %.1f s; 2 replicas (1 thread each) %.1f s: %.2fx the samples per wall second (target: close to 2x)\n", a, b, 2 * a / b }'
+    printf "medians: one run on 2 threads %.1f s; 2 replicas (1 thread each) %.1f s: %.2fx the samples per wall second (target: close to 2x)\n", a, b, 2 * a / b }'
 fi
 
 if has fields; then
   echo; echo "## Fields off against on (one thread)"
-  sleep 1
-  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set output.fields=true --out "$WORK/fields_on" --quiet >/dev/null
-  [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --out "$WORK/threads1" --quiet >/dev/null
-  on=$(wall "$WORK/fields_on"); off=$(wall "$WORK/threads1")
+  timed fields_on --set output.fields=true
+  [[ -s "$WORK/threads1.wall" ]] || timed threads1 --threads 1
+  on=$(cat "$WORK/fields_on.wall"); off=$(cat "$WORK/threads1.wall")
   awk -v a="$on" -v b="$off" 'BEGIN {
-    printf "fields on %.1f s, off %.1f s: off saves %.0f%% (the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - b / a) }'
+    printf "medians: fields on %.1f s, off %.1f s: off saves %.0f%% (the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - b / a) }'
 fi
 
 if has error; then
