@@ -85,7 +85,7 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   team_max_ = std::max(1, std::min({opt_.threads, n_grains_ / kMinGrainsPerThread, kMaxTeam}));
   team_ = team_max_;
   tune_phase_ = 0;
-  tune_left_ = kTrialSteps;
+  tune_left_ = kWarmSteps + kTrialSteps;
   tune_seconds_[0] = tune_seconds_[1] = 0;
   tune_steps_[0] = tune_steps_[1] = 0;
   nl_.clear();
@@ -279,7 +279,7 @@ void DemSystem::choose_team() {
         tune_best_ = team < one ? team_max_ : 1;
       }
       tune_phase_ = (tune_phase_ + 1) % 3;
-      tune_left_ = tune_phase_ == 2 ? kExploitSteps : kTrialSteps;
+      tune_left_ = tune_phase_ == 2 ? kExploitSteps : kWarmSteps + kTrialSteps;
       if (tune_phase_ == 0) {
         tune_seconds_[0] = tune_seconds_[1] = 0;
         tune_steps_[0] = tune_steps_[1] = 0;
@@ -296,7 +296,7 @@ void DemSystem::choose_team() {
 void DemSystem::account_segment(long long steps, double seconds) {
   (team_ > 1 ? steps_on_team_ : steps_on_one_) += steps;
   if (team_max_ == 1) return;
-  if (tune_phase_ < 2) {
+  if (tune_phase_ < 2 && kWarmSteps + kTrialSteps - tune_left_ >= kWarmSteps) {
     tune_seconds_[tune_phase_] += seconds;
     tune_steps_[tune_phase_] += steps;
   }

@@ -122,8 +122,8 @@ gd::DemConfig short_seeded_case(const char* tag) {
 // gives bit-identical forces, with 1 or 2 threads (per-pair forces are summed per particle in a
 // fixed order); another seed gives another bed. Tolerance: exact equality. The bed (60 d x 40 d,
 // ~2300 grains) is large enough for the step to really run on 2 threads: its 4000 steps are the
-// step's two timing trials (DemSystem::choose_team), 2000 on one thread then 2000 on two, so the
-// switch of team size in the middle of a run is covered too.
+// step's timing trials (DemSystem::choose_team), 2500 on one thread then the rest on two, so
+// the switch of team size in the middle of a run is covered too.
 TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
   auto c = short_seeded_case("seed");
   const auto a = gd::run_simulation(c);

@@ -233,9 +233,11 @@ class DemSystem {
   void choose_team();
   /// Adds a segment's steps and wall time to the current trial.
   void account_segment(long long steps, double seconds);
-  static constexpr long long kTrialSteps = 2000, kExploitSteps = 100000;
+  /// Each trial runs kWarmSteps untimed (the other core's caches are cold and its thread asleep
+  /// after a long phase on one thread), then kTrialSteps timed.
+  static constexpr long long kWarmSteps = 500, kTrialSteps = 2000, kExploitSteps = 100000;
   int tune_phase_ = 0;            ///< 0: trial on one thread, 1: trial on the team, 2: exploit
-  long long tune_left_ = kTrialSteps;  ///< steps left in the phase
+  long long tune_left_ = kWarmSteps + kTrialSteps;  ///< steps left in the phase
   double tune_seconds_[2] = {0, 0};    ///< wall time of the trials (one thread, team)
   long long tune_steps_[2] = {0, 0};   ///< their steps
   int tune_best_ = 1;                  ///< team size of the exploit phase
