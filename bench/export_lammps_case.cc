@@ -18,6 +18,7 @@
 #include "grainlift/dem/packing.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"
+#include "lammps_data.h"
 
 namespace {
 
@@ -88,34 +89,15 @@ int main(int argc, char** argv) {
     const gd::PackedBed bed = gd::prepare_packing(c);
     const auto walls = gd::make_wall_disks(c);
 
-    std::FILE* f = std::fopen(out_path.c_str(), "w");
-    if (!f) {
+    if (!grainlift::bench::write_lammps_data(
+            out_path, "grainlift case " + case_path + ", Phi = " + std::to_string(bed.area_fraction),
+            c, bed, walls)) {
       std::fprintf(stderr, "%s: cannot write %s\n", argv[0], out_path.c_str());
       return kBadInput;
     }
-    const std::size_t n = bed.r.size() + walls.size() + 1;
-    std::fprintf(f, "grainlift case %s, Phi = %.6f\n\n%zu atoms\n3 atom types\n\n",
-                 case_path.c_str(), bed.area_fraction, n);
-    std::fprintf(f, "%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n-0.01 0.01 zlo zhi\n\n",
-                 c.xmin, c.xmax, c.ymin, c.ymax);
-    // id type diameter density x y z; production.in sets the masses with density/disc
-    std::fprintf(f, "Atoms # sphere\n\n");
-    std::size_t id = 1;
     double rmax = 0;
-    for (std::size_t k = 0; k < bed.r.size(); ++k) {
-      std::fprintf(f, "%zu 1 %.17g 1000 %.17g %.17g 0\n", id++, 2 * bed.r[k], bed.x[k], bed.y[k]);
-      rmax = std::max(rmax, bed.r[k]);
-    }
-    for (const auto& w : walls) {
-      std::fprintf(f, "%zu 2 %.17g 1000 %.17g %.17g 0\n", id++, 2 * w.r, w.x, w.y);
-      rmax = std::max(rmax, w.r);
-    }
-    std::fprintf(f, "%zu 3 %.17g 1000 %.17g %.17g 0\n", id, c.intruder_diameter,
-                 c.intruder_position[0], c.intruder_position[1]);
-    if (std::fclose(f) != 0) {
-      std::fprintf(stderr, "%s: error writing %s\n", argv[0], out_path.c_str());
-      return 1;
-    }
+    for (double r : bed.r) rmax = std::max(rmax, r);
+    for (const auto& w : walls) rmax = std::max(rmax, w.r);
 
     // the step count and steady start as run_simulation computes them
     const double d = c.grain_diameter;

@@ -353,28 +353,21 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
                   const std::string& tag) {
   // The current errors on the progress line; with a target, the run ends once both are at or
   // below it.
-  const RunMonitor monitor = [&](const DemOutput& so_far) {
+  const RunMonitor monitor = [&](const DemOutput& so_far, double fraction) {
     const RelativeErrors e = relative_errors(c, so_far);
-    MonitorVerdict v;
-    v.status = fmt::format("{}error drag {} lift {}", tag, percent(e.drag), percent(e.lift));
-    if (target > 0) {
-      v.status += fmt::format(" (target {})", percent(target));
-      v.stop = e.drag <= target && e.lift <= target;
-    }
-    return v;
+    std::string status = fmt::format("{}error drag {} lift {}", tag, percent(e.drag), percent(e.lift));
+    if (target > 0) status += fmt::format(" (target {})", percent(target));
+    if (progress) progress->update(fraction, "run", status);
+    return target > 0 && e.drag <= target && e.lift <= target;
   };
   DemOutput out;
   try {
-    if (progress) {
-      out = run_simulation(
-          cfg, [&](double fraction, const char* phase) { progress->update(fraction, phase); },
-          monitor,
-          [&](double fraction, const std::string& status) {
-            progress->update(fraction, "run", status);
-          });
-    } else {
-      out = run_simulation(cfg, {}, target > 0 ? monitor : RunMonitor{}, {});
-    }
+    out = run_simulation(
+        cfg,
+        [&](double fraction, const char* phase) {
+          if (progress) progress->update(fraction, phase);
+        },
+        monitor);
   } catch (const ConfigError& e) {
     throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
   } catch (const RunFailure& e) {

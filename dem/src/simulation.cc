@@ -102,12 +102,11 @@ double validate_config(const DemConfig& c) {
 }
 
 DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
-  return run_simulation(c, progress, {}, {});
+  return run_simulation(c, progress, {});
 }
 
 DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
-                         const RunMonitor& monitor,
-                         const std::function<void(double, const std::string&)>& status_progress) {
+                         const RunMonitor& monitor) {
   DemOutput out;
   out.collision_time = validate_config(c);
   const double d = c.grain_diameter;
@@ -216,14 +215,13 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     }
     if (report && (k % progress_every == 0 || k == n_steps)) {
       const double fraction = static_cast<double>(k) / static_cast<double>(n_steps);
-      MonitorVerdict v;
-      if (monitor && out.steady_start_index != static_cast<std::size_t>(-1)) v = monitor(out);
-      if (status_progress) {
-        status_progress(fraction, v.status);
-      } else if (progress) {
+      bool stop = false;
+      if (monitor) {
+        stop = monitor(out, fraction);
+      } else {
         progress(fraction, "run");
       }
-      if (v.stop && k < n_steps) {
+      if (stop && k < n_steps) {
         out.stopped_early = true;
         out.steps = k;
         break;

@@ -1,26 +1,12 @@
 #include "grainlift/shared/replica_pool.h"
 
+#include "grainlift/shared/force_statistics.h"
+
 #include <cmath>
 #include <stdexcept>
 
 namespace grainlift {
 namespace {
-
-struct Spread {
-  double mean = 0, stderr_ = 0;
-};
-
-/// Mean of v and SD / sqrt(N) (0 for one value).
-Spread spread(const std::vector<double>& v) {
-  Spread s;
-  const double n = double(v.size());
-  for (double x : v) s.mean += x / n;
-  if (v.size() < 2) return s;
-  double ss = 0;
-  for (double x : v) ss += (x - s.mean) * (x - s.mean);
-  s.stderr_ = std::sqrt(ss / (n - 1) / n);
-  return s;
-}
 
 /// Element-wise mean over the replicas of one array; cells that are not finite in a replica
 /// are left out of that cell's mean (NaN where no replica has a value). With @p se, the
@@ -41,7 +27,8 @@ std::vector<double> mean_of(const std::vector<const std::vector<double>*>& array
       out[i] = std::nan("");
       continue;
     }
-    const Spread s = spread(values);
+    // blocks of one value each: the mean and SD / sqrt(N)
+    const BlockMean s = block_mean(values, values.size());
     out[i] = s.mean;
     if (se && values.size() >= 2) (*se)[i] = s.stderr_;
   }
@@ -85,14 +72,14 @@ RunResult pool_replicas(const std::vector<RunResult>& rs) {
     }
     if (n >= 2) {
       MeanForces& m = *p.means;
-      const Spread d = spread(drag), l = spread(lift), t = spread(torque);
+      const BlockMean d = block_mean(drag, n), l = block_mean(lift, n), t = block_mean(torque, n);
       m.drag = d.mean;
       m.lift = l.mean;
       m.torque = t.mean;
       m.drag_stderr = d.stderr_;
       m.lift_stderr = l.stderr_;
       m.torque_stderr = t.stderr_;
-      if (contacts.size() == n) m.contacts = spread(contacts).mean;
+      if (contacts.size() == n) m.contacts = block_mean(contacts, n).mean;
       m.samples = samples;
       m.blocks = std::int64_t(n);
     }

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <functional>
-#include <string>
 
 #include "grainlift/dem/dem_config.h"
 #include "grainlift/dem/dem_output.h"
@@ -24,19 +23,14 @@ double validate_config(const DemConfig& cfg);
 /// blows up (non-finite state, overlap above cfg.max_overlap_fraction of a diameter).
 DemOutput run_simulation(const DemConfig& cfg, const ProgressCallback& progress = {});
 
-/// What a run monitor says of the output so far.
-struct MonitorVerdict {
-  bool stop = false;   ///< end the run now (DemOutput::stopped_early)
-  std::string status;  ///< short text for the progress line ("" for none)
-};
-/// Looks at the samples so far (after every progress report, at most ~100 times per run).
-using RunMonitor = std::function<MonitorVerdict(const DemOutput& so_far)>;
+/// Looks at the output so far at every progress report of the run (at most ~100 times), with
+/// the fraction of the steps done; returns true to end the run there (DemOutput::stopped_early).
+using RunMonitor = std::function<bool(const DemOutput& so_far, double fraction)>;
 
-/// @brief The same run, with @p monitor asked after every progress report whether to stop
-/// (for example when the standard errors have reached a target); its status is passed to
-/// @p status_progress with the fraction of the steps done.
+/// @brief The same run, with @p monitor asked at every progress report whether to stop (for
+/// example once the standard errors have reached a target). The monitor reports the run's
+/// progress itself: @p progress then sees the packing phase only.
 DemOutput run_simulation(const DemConfig& cfg, const ProgressCallback& progress,
-                         const RunMonitor& monitor,
-                         const std::function<void(double, const std::string&)>& status_progress);
+                         const RunMonitor& monitor);
 
 }  // namespace grainlift::dem
