@@ -10,6 +10,9 @@
 #             (dem_throughput, Google Benchmark), and the whole reduced run (2,295 grains)
 #   replicas  --replicas 2 against one run, both on --threads 2: statistics per wall second
 #   fields    the saving of not accumulating fields (output.fields = false) on the reduced run
+#   frictionless  the saving of dem.frictionless_path on the reduced run with grains.friction = 0
+#   fem       the FEM's error against time on the demo geometry, refinement 0-3, nested
+#             iteration on and off (scripts/fem_pareto.py)
 #   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
 #             the reduced Kumar run and cases/guillard2014/gradient.toml
 #
@@ -19,7 +22,7 @@
 # (default true / cores). About 25 minutes on 2 cores with REPS=3.
 set -euo pipefail
 BUILD=${1:-build}
-SECTIONS=${2:-"lammps threads replicas fields error"}
+SECTIONS=${2:-"lammps threads replicas fields frictionless fem error"}
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 WORK=${WORK:-/tmp/grainlift_speed}
@@ -114,6 +117,35 @@ if has fields; then
   on=$(cat "$WORK/fields_on.wall"); off=$(cat "$WORK/threads1.wall")
   awk -v a="$on" -v b="$off" 'BEGIN {
     printf "medians: fields on %.1f s, off %.1f s: off saves %.0f%% (the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - b / a) }'
+fi
+
+if has frictionless; then
+  echo; echo "## Frictionless path against the general law (grains.friction = 0, one thread)"
+  F0=(--set grains.friction=0.0)
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" "${F0[@]}" --set dem.travel=16 --out "$WORK/prep_mu0" --quiet >/dev/null
+  timed mu0_general "${F0[@]}" --set dem.frictionless_path=false
+  timed mu0_path "${F0[@]}" --set dem.frictionless_path=true
+  "$PY" - "$WORK/mu0_general" "$WORK/mu0_path" <<'PYEOF'
+import json, sys
+w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
+t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
+same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
+print(f"medians: general law {t[0]:.1f} s, frictionless path {t[1]:.1f} s: saves "
+      f"{100 * (1 - t[1] / t[0]):.0f}%; same drag and lift bits: {same}")
+PYEOF
+fi
+
+if has fem; then
+  echo; echo "## FEM: error against time on the demo geometry (2 threads; nested iteration on and off)"
+  for r in 0 1 2 3; do
+    "$GL" run "$ROOT/cases/demo/demo.toml" --solver fem --threads 2 --quiet \
+      --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
+      --set output.fields=false --out "$WORK/fem_nested_$r" >/dev/null
+    "$GL" run "$ROOT/cases/demo/demo.toml" --solver fem --threads 2 --quiet \
+      --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
+      --set continuum.nested=false --set output.fields=false --out "$WORK/fem_flat_$r" >/dev/null
+  done
+  "$PY" "$ROOT/scripts/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3} -- "$WORK"/fem_flat_{0,1,2,3}
 fi
 
 if has error; then

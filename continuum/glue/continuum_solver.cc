@@ -101,6 +101,7 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
                                                         {"auto", InertiaMode::automatic}});
   f.refinement = c.continuum.refinement;
   f.adaptive_cycles = c.continuum.adaptive_cycles;
+  f.nested = c.continuum.nested;
   f.nonlinear_tolerance = c.continuum.tolerance;
   f.max_nonlinear_iterations = c.continuum.max_iterations;
   f.picard_iterations = c.continuum.picard_iterations;
@@ -236,6 +237,20 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
     d.values["lift_mesh_error"] = std::abs(m.lift - coarser->lift);
     d.values["torque_mesh_error"] = std::abs(m.torque - coarser->torque);
   }
+  if (!out.levels.empty()) {
+    // the nested levels (coarsest first): mesh, forces, work
+    auto& lv = d.series;
+    for (const LevelResult& l : out.levels) {
+      const DragLift dl = project_drag_lift(l.fx, l.fy, c.intruder.velocity[0], c.intruder.velocity[1]);
+      lv["level_refinement"].push_back(l.refinement);
+      lv["level_dofs"].push_back(l.dofs);
+      lv["level_drag"].push_back(dl.drag);
+      lv["level_lift"].push_back(dl.lift);
+      lv["level_torque"].push_back(l.torque);
+      lv["level_nonlinear_steps"].push_back(l.nonlinear_steps);
+      lv["level_seconds"].push_back(l.seconds);
+    }
+  }
   d.series["residual_history"] = out.residual_history;
   d.series["residual_stage"].assign(out.residual_stage.begin(), out.residual_stage.end());
   return r;
@@ -258,7 +273,9 @@ SolverEntry solver_entry() {
     ContinuumOutput out;
     std::optional<CoarserLevel> coarser;
     try {
-      if (c.continuum.mesh_error_estimate && cfg.refinement >= 1 && cfg.adaptive_cycles == 0) {
+      const bool estimate =
+          c.continuum.mesh_error_estimate && cfg.refinement >= 1 && cfg.adaptive_cycles == 0;
+      if (estimate && !cfg.nested) {
         // an independent solve of the coarser mesh (the requested level does not start from
         // it, so its result is the same with and without the estimate)
         ContinuumConfig coarse = cfg;
@@ -280,6 +297,13 @@ SolverEntry solver_entry() {
         }
       }
       out = solve_flow(cfg, [&](const std::string& line) { progress.message(line); });
+      if (estimate && cfg.nested && out.levels.size() >= 2) {
+        // the nested level below the requested one was solved on the way
+        const LevelResult& lv = out.levels[out.levels.size() - 2];
+        const DragLift dl =
+            project_drag_lift(lv.fx, lv.fy, c.intruder.velocity[0], c.intruder.velocity[1]);
+        coarser = CoarserLevel{lv.refinement, dl.drag, dl.lift, lv.torque};
+      }
     } catch (const ConfigError& e) {
       throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
     } catch (const SolverError& e) {  // an error in the solve, not a non-convergence: exit 1

@@ -3,6 +3,7 @@
 // deal.II: never include it from a public header.
 #pragma once
 
+#include <chrono>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -42,13 +43,16 @@ class CylinderProblem {
     bool final;
   };
 
-  void make_mesh();
+  void make_mesh(int refinement);
   /// The problem with gravity @p g_used: body force rho g, far field at P0 + rho g.x.
   ProblemSetup make_setup(const Vec2& g_used) const;
   void setup_system();
   void schedule_continuation();
   void solve_with_continuation();
   void refine_mesh(int cycle);
+  void refine_flagged_cells();
+  void solve_next_level(int level);
+  void record_level(int level, std::chrono::steady_clock::time_point started);
   void schedule_after_refinement();
   void correct_for_gravity();
   void report_convergence();
@@ -80,6 +84,7 @@ class CylinderProblem {
   std::vector<double> schedule_;  ///< the intermediate deltas
   std::deque<Stage> todo_;
   int splits_ = 0, stage_number_ = 0;
+  int steps_recorded_ = 0;  ///< nonlinear steps counted in out_.levels so far
   double done_delta_ = -1;  ///< delta of the last converged stage; < 0: none yet
   std::vector<std::unique_ptr<MuIRheology>> stage_rheology_;  ///< outlive the solves
 

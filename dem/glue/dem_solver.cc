@@ -298,6 +298,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.seed = c.dem.seed;
   d.sample_every = c.dem.sample_every;
   d.field_every = c.dem.field_every;
+  d.frictionless_path = c.dem.frictionless_path;
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
   d.packing_cache_dir = cache_folder(c.dem.packing_cache, "packings");
@@ -374,6 +375,7 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     throw RunError(e.what());
   }
   RunResult r = to_result(c, out);
+  r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
   if (target > 0) {
     const RelativeErrors final_errors = relative_errors(c, out);
     const double travel = c.dem.travel * double(out.steps) / double(out.planned_steps);

@@ -96,6 +96,10 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   ContactBatch cb{};
   static_assert(kBatch == ContactBatch::kLanes);
   const std::size_t nt = n_touching;
+  if (frictionless_ && mu == 0.0) {
+    frictionless_chunk(chunk, spring_dt, max_ov);
+    return;
+  }
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
     const std::int64_t* kb = touching + b0;
@@ -166,5 +170,91 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   }
 }
 
+
+/// The touching pairs of a chunk (after chunk_forces' screen) with mu = 0: the normal force
+/// only. The Coulomb cap makes F_t zero in the general law, so the forces and torques are the
+/// same (the torque +-0), and no tangential spring is read or written: the springs stay
+/// zero (the general law would store -B_t v_t / A_t on slip, which no force ever reads while
+/// mu = 0; set_frictionless_path() says when this is used).
+void DemSystem::frictionless_chunk(int chunk, double spring_dt, double& max_ov) {
+  const double h = 0.5 * spring_dt;
+  const PeriodicBox box = opt_.box;
+  const LawCoefficients law = law_;
+  const double* x = p_.x.data();
+  const double* y = p_.y.data();
+  const double* r = p_.r.data();
+  const double* vx = p_.vx.data();
+  const double* vy = p_.vy.data();
+  const double* w = p_.w.data();
+  const double* ax = p_.ax.data();
+  const double* ay = p_.ay.data();
+  const double* al = p_.alpha.data();
+  const double* inv_m = p_.inv_m.data();
+  const int* owner = nl_.owner.data();
+  const int* partner = nl_.partner.data();
+  double* pfx = nl_.fx.data();
+  double* pfy = nl_.fy.data();
+  double* pq = nl_.q.data();
+  const int ng = n_grains_;
+  const bool scatter = team_ == 1;
+  const bool store = !scatter || store_pair_forces_;
+  double* sfx = fx_.data();
+  double* sfy = fy_.data();
+  std::uint8_t* touched = touched_.data();
+  const bool pair_consts = !radii_scaled_;
+  const double* reff = pair_reff_.data();
+  const double* meff = pair_meff_.data();
+  const TouchList& tl = touch_[chunk];
+  for (std::size_t a = 0; a < tl.n; ++a) {
+    const std::int64_t k = tl.k[a];
+    const int i = owner[k], j = partner[k];
+    const double ri = r[i], rj = r[j];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    box.min_image(dx, dy);
+    const double rs = ri + rj;
+    const double dist = std::sqrt(dx * dx + dy * dy);
+    const double inv_dist = 1.0 / dist;
+    ContactKinematics kin;
+    kin.nx = dx * inv_dist;
+    kin.ny = dy * inv_dist;
+    kin.delta = rs - dist;
+    if (pair_consts) {
+      kin.r_eff = reff[k];
+      kin.m_eff = meff[k];
+    } else {
+      kin.r_eff = ri * rj / rs;
+      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+    }
+    contact_point_motion(kin.nx, kin.ny, ri, rj,
+                         {vx[i] + h * ax[i], vy[i] + h * ay[i], w[i] + h * al[i]},
+                         {vx[j] + h * ax[j], vy[j] + h * ay[j], w[j] + h * al[j]},
+                         {vx[i], vy[i], w[i]}, {vx[j], vy[j], w[j]}, spring_dt, kin);
+    const double fn = normal_contact_force(law, kin);
+    const double fxb = fn * kin.nx, fyb = fn * kin.ny;
+    if (store) {
+      pfx[k] = fxb;
+      pfy[k] = fyb;
+      pq[k] = 0.0;
+    }
+    if (scatter) {
+      sfx[i] += fxb;
+      sfy[i] += fyb;
+      touched[i] = 1;
+      if (j < ng) {
+        sfx[j] -= fxb;
+        sfy[j] -= fyb;
+        touched[j] = 1;
+      }
+    } else {
+      __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
+      if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
+    }
+    const double dmin = 2.0 * std::min(ri, rj);
+    if (kin.delta > max_ov * dmin * (1.0 - 1e-12)) {
+      const double ov = kin.delta / dmin;
+      if (ov > max_ov) max_ov = ov;
+    }
+  }
+}
 
 }  // namespace grainlift::dem

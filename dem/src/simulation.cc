@@ -121,6 +121,8 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
                  c.intruder_velocity[0], c.intruder_velocity[1], c.intruder_omega,
                  c.spin_ramp_time);
   s.set_store_pair_forces(c.fields.enabled);  // only the contact stress (and the lid) read them
+  s.set_frictionless_path(c.frictionless_path);  // the run keeps its mu: no spring is ever read
+  out.frictionless_path = s.frictionless_path_active();
   if (c.lid_pressure > 0) {
     s.attach_lid(PressureLid(c, s));
     out.lid_mass = s.lid()->mass();

@@ -119,6 +119,10 @@ std::vector<KeySpec> make_keys() {
                    "stop once the relative standard errors of the mean drag and of the mean lift "
                    "(block averages, corrected for correlated blocks) are both at most this; "
                    "0: run the whole dem.travel, which remains the limit"));
+  k.push_back(boolean("dem.frictionless_path", "true",
+                      "with grains.friction = 0, evaluate grain contacts by their normal force "
+                      "only (no tangential history): the same trajectories, less work "
+                      "(docs/performance.md); false: the general law"));
   k.push_back(integer("dem.seed", "1", 0, 9.2e18, "random seed: packing and size distribution"));
   k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
   k.push_back(integer("dem.field_every", "500", 1, 1e9,
@@ -183,11 +187,18 @@ std::vector<KeySpec> make_keys() {
                       "of the cells with the largest Kelly indicator of the velocity (level "
                       "jumps of at most one across faces and vertices; the same mesh on one "
                       "and on N MPI ranks)"));
+  k.push_back(boolean("continuum.nested", "true",
+                      "nested iteration: the continuation in the regularisation runs on "
+                      "refinement 0, each finer level starts from the interpolated coarser "
+                      "solution (docs/performance.md); false: the whole continuation on the "
+                      "requested mesh"));
   k.push_back(boolean("continuum.mesh_error_estimate", "true",
                       "solve the next coarser level (refinement - 1) first and write its forces "
                       "and their difference to the requested level as the mesh-error estimate "
                       "(/diagnostics *_mesh_error; compare and report combine it with the "
-                      "DEM's standard error); not with adaptive_cycles or at refinement 0"));
+                      "DEM's standard error; with continuum.nested the coarser level is one "
+                      "of the nested levels, at no extra cost); not with adaptive_cycles or "
+                      "at refinement 0"));
   k.push_back(real("continuum.tolerance", false, "1e-8", 0, 1, true, true, "-",
                    "relative nonlinear residual at which the solve stops"));
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));

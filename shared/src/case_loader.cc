@@ -506,6 +506,7 @@ Case build_case(const toml::table& root) {
   dm.travel = get_real(r, "dem.travel");
   dm.steady_travel = get_real(r, "dem.steady_travel");
   dm.target_error = get_real(r, "dem.target_error");
+  dm.frictionless_path = get_bool(r, "dem.frictionless_path");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));
   dm.field_every = int(get_int(r, "dem.field_every"));
@@ -532,6 +533,7 @@ Case build_case(const toml::table& root) {
   cn.box_half_size = get_vec2(r, "continuum.box_half_size");
   cn.refinement = int(get_int(r, "continuum.refinement"));
   cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
+  cn.nested = get_bool(r, "continuum.nested");
   cn.mesh_error_estimate = get_bool(r, "continuum.mesh_error_estimate");
   cn.tolerance = get_real(r, "continuum.tolerance");
   cn.max_iterations = int(get_int(r, "continuum.max_iterations"));

@@ -310,10 +310,11 @@ TEST(FemMpi, ExceptionOnOneProcessIsAnErrorNotANonConvergence) {
 }
 
 // The mesh-error estimate (continuum.mesh_error_estimate, on by default) is the change of the
-// forces from the next coarser level, solved independently first: the coarser forces written
-// to /diagnostics are those of a run at refinement 0 (1e-10 relative: the same discrete
+// forces from the next coarser level (the nested level below the requested one; solved
+// independently first with continuum.nested = false): the coarser forces written to
+// /diagnostics are those of a run at refinement 0 (1e-10 relative: the same discrete
 // problem), *_mesh_error is |fine - coarser|, and the requested level's forces are the same
-// with and without the estimate (bit-equal: nothing of the coarse solve enters the fine one).
+// with and without the estimate (bit-equal: the estimate adds no solve to the path).
 // What the estimate is worth is measured in docs/crosscheck.md (this case's lift is not yet
 // monotone in the level: -189.6, -172.7, -196.8, -217.8 N/m at refinements 0-3, so no bound
 // is asserted here).

@@ -173,6 +173,38 @@ TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 
+// Physics: with mu = 0 between grains the Coulomb cap makes every tangential force zero, so
+// the frictionless path (normal forces only, no spring history) gives the same trajectories:
+// the intruder's samples are bit-identical to the general law's (exact equality), on one and
+// on two threads, with the per-pair forces stored (fields on) or not. The intruder keeps
+// its friction (0.5): grains it spins carry angular velocity into grain-grain contacts.
+TEST(Simulation, FrictionlessPathGivesTheBitsOfTheGeneralLaw) {
+  auto c = small_case(30, 20, 0.8);
+  c.seed = 9;
+  c.contact.friction = 0.0;
+  c.packing_cache_dir = temp_cache_dir("frictionless");
+  for (int threads : {1, 2}) {
+    for (bool fields : {false, true}) {
+      c.threads = threads;
+      c.fields.enabled = fields;
+      c.fields.spacing = 0.5 * c.grain_diameter;
+      c.fields.x0 = c.fields.y0 = -4 * c.grain_diameter;
+      c.fields.nx = c.fields.ny = 16;
+      c.frictionless_path = true;
+      const auto fast = gd::run_simulation(c);
+      c.frictionless_path = false;
+      const auto general = gd::run_simulation(c);
+      EXPECT_TRUE(fast.frictionless_path);
+      EXPECT_FALSE(general.frictionless_path);
+      expect_same_samples(fast, general);
+    }
+  }
+  c.contact.friction = 0.5;  // with friction the switch does nothing
+  c.frictionless_path = true;
+  EXPECT_FALSE(gd::run_simulation(c).frictionless_path);
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
 // Physics: coarse graining only reads the state, so turning the fields on leaves the forces
 // bit-identical (exact equality). The fields themselves are sane: no grain inside the intruder
 // (area fraction 0 within 0.9 R), the far field near the bed's Phi (within 0.15), and the

@@ -82,6 +82,11 @@ struct ContinuumConfig {
   // ---- numerics
   int refinement = 2;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;
+  /// Nested iteration: the continuation runs on refinement 0, each finer level up to
+  /// `refinement` starts from the interpolated coarser solution and solves the final stage
+  /// only (the continuation's last two stages only where that fails); false: the whole
+  /// continuation on the requested mesh.
+  bool nested = true;
   double nonlinear_tolerance = 1e-8;    ///< relative residual
   int max_nonlinear_iterations = 50;
   int picard_iterations = 5;
@@ -94,6 +99,15 @@ struct ContinuumConfig {
   std::vector<double> surface_theta;
   FieldGridSpec fields;
   std::string vtu_directory;            ///< "" = no VTU output
+};
+
+/// One level of the nested iteration (ContinuumConfig::nested): its mesh, forces and work.
+struct LevelResult {
+  int refinement = 0, cells = 0, dofs = 0;
+  double fx = 0, fy = 0, torque = 0;  ///< N/m, N
+  int nonlinear_steps = 0;            ///< Picard and Newton steps spent on this level
+  double seconds = 0;                 ///< wall time of this level (refinement, set-up, solves)
+  bool converged = false;
 };
 
 struct ContinuumOutput {
@@ -125,6 +139,9 @@ struct ContinuumOutput {
   /// stages and the stages of each adaptive cycle) of each entry of residual_history
   std::vector<int> residual_stage;
   std::string message;                    ///< why it failed when !converged
+  /// nested iteration: every level solved, coarsest first (the last is the requested one,
+  /// before any adaptive cycle); empty without nesting
+  std::vector<LevelResult> levels;
 };
 
 }  // namespace grainlift::continuum

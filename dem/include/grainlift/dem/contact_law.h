@@ -171,21 +171,36 @@ inline void contact_lanes(const T& nx, const T& ny, const T& delta, const T& vn,
 /// The spring s is first rotated into the current contact plane (its magnitude kept),
 /// then incremented by the tangential displacement of the step, and truncated on slip
 /// so that A_t s = -(F_t + B_t v_t) with |F_t| = mu |F_n|.
-inline void contact_force(const LawCoefficients& c, const ContactKinematics& k, double& sx,
-                          double& sy, ContactForce& out) {
-  double an, bn, at, bt;
+/// The prefactors A_n, B_n, A_t, B_t of either law for one contact.
+inline void law_prefactors(const LawCoefficients& c, double r_eff, double delta, double m_eff,
+                           double& an, double& bn, double& at, double& bt) {
   if (c.law == ContactLaw::kumar2019) {
-    kumar_prefactors(c, k.r_eff, k.delta, k.m_eff, an, bn, at, bt);
+    kumar_prefactors(c, r_eff, delta, m_eff, an, bn, at, bt);
   } else {
-    const double sd = std::sqrt(k.delta);
+    const double sd = std::sqrt(delta);
     const double qd = std::sqrt(sd);  // delta^(1/4)
-    const double kns = c.hertz_stiffness(k.r_eff);
+    const double kns = c.hertz_stiffness(r_eff);
     const double kts = c.hertz_kt_ratio * kns;
     an = kns * sd;
     at = kts * sd;
-    bn = std::sqrt(5.0) * c.hertz_beta * std::sqrt(kns * k.m_eff) * qd;
-    bt = std::sqrt(10.0 / 3.0) * c.hertz_beta * std::sqrt(kts * k.m_eff) * qd;
+    bn = std::sqrt(5.0) * c.hertz_beta * std::sqrt(kns * m_eff) * qd;
+    bt = std::sqrt(10.0 / 3.0) * c.hertz_beta * std::sqrt(kts * m_eff) * qd;
   }
+}
+
+/// @brief The normal force F_n = A_n delta - B_n v_n of a contact (positive repulsive): with
+/// mu = 0 the whole force, F_t being capped to zero (the frictionless path of the pair loop;
+/// the bits of contact_force's F_n).
+inline double normal_contact_force(const LawCoefficients& c, const ContactKinematics& k) {
+  double an, bn, at, bt;
+  law_prefactors(c, k.r_eff, k.delta, k.m_eff, an, bn, at, bt);
+  return an * k.delta - bn * k.vn;
+}
+
+inline void contact_force(const LawCoefficients& c, const ContactKinematics& k, double& sx,
+                          double& sy, ContactForce& out) {
+  double an, bn, at, bt;
+  law_prefactors(c, k.r_eff, k.delta, k.m_eff, an, bn, at, bt);
   double fn, ftx, fty;
   bool slipping;
   contact_lanes(k.nx, k.ny, k.delta, k.vn, k.vtx, k.vty, k.dsx, k.dsy, an, bn, at, bt, k.mu, sx,

@@ -83,6 +83,9 @@ struct DemConfig {
   std::string packing_cache_dir;   ///< where prepared beds are saved and reused ("" = no cache)
   FieldGridSpec fields;            ///< coarse-grained fields (off: bit-identical forces)
   int field_every = 500;           ///< steps between field snapshots (after the steady state)
+  /// with contact.friction = 0: contacts by their normal force only (no tangential
+  /// kinematics or history; the same trajectories, DemSystem::set_frictionless_path)
+  bool frictionless_path = true;
 
   // ---- added by the DEM engine (defaults keep the meaning of the fields above)
   /// m/s, impact speed of the binary collision time used for the dt check;

@@ -60,6 +60,7 @@ struct DemOutput {
   bool packing_from_cache = false;
   long long steps = 0;                    ///< steps run
   long long planned_steps = 0;            ///< steps of the whole travel
+  bool frictionless_path = false;         ///< contacts by normal force only (mu = 0, DemConfig::frictionless_path)
   bool stopped_early = false;             ///< a RunMonitor ended the run before the travel
   int list_builds = 0;                    ///< Verlet-list builds during the run
   int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)

@@ -66,6 +66,7 @@ struct DemSection {
   std::uint64_t seed{};
   int sample_every{};
   int field_every{};
+  bool frictionless_path{};  ///< grains.friction = 0: normal forces only
   double relax_ke{};       ///< J per grain
   std::string packing_cache;
 };
@@ -90,6 +91,7 @@ struct ContinuumSection {
   Vec2 box_half_size{};     ///< m; 0 = from the domain
   int refinement{};
   int adaptive_cycles{};
+  bool nested{};                ///< nested iteration from refinement 0
   bool mesh_error_estimate{};   ///< solve refinement - 1 first: the forces' mesh-error estimate
   double tolerance{};
   int max_iterations{};
