@@ -11,8 +11,47 @@
 
 namespace grainlift::dem {
 
+namespace {
+/// The arrays the kinematics of a listed pair reads (local copies: the compiler can keep them
+/// in registers, no aliasing with the arrays written).
+struct PairInputs {
+  PeriodicBox box;
+  const double *x, *y, *r, *vx, *vy, *w, *ax, *ay, *al, *inv_m, *reff, *meff;
+  const int *owner, *partner;
+  bool pair_consts;  ///< r_eff and m_eff from the list build (no radius changed since)
+  double h, dt;      ///< half the spring step; the spring step
+
+  /// Normal, overlap, r_eff, m_eff and the contact-point motion of pair k (predicted
+  /// velocities at t + dt for the force, half-step velocities for the spring).
+  ContactKinematics of(std::int64_t k) const {
+    const int i = owner[k], j = partner[k];
+    const double ri = r[i], rj = r[j];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    box.min_image(dx, dy);
+    const double rs = ri + rj;
+    const double dist = std::sqrt(dx * dx + dy * dy);
+    const double inv_dist = 1.0 / dist;
+    ContactKinematics kin;
+    kin.nx = dx * inv_dist;
+    kin.ny = dy * inv_dist;
+    kin.delta = rs - dist;
+    if (pair_consts) {
+      kin.r_eff = reff[k];
+      kin.m_eff = meff[k];
+    } else {
+      kin.r_eff = ri * rj / rs;
+      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+    }
+    contact_point_motion(kin.nx, kin.ny, ri, rj,
+                         {vx[i] + h * ax[i], vy[i] + h * ay[i], w[i] + h * al[i]},
+                         {vx[j] + h * ax[j], vy[j] + h * ay[j], w[j] + h * al[j]},
+                         {vx[i], vy[i], w[i]}, {vx[j], vy[j], w[j]}, dt, kin);
+    return kin;
+  }
+};
+}  // namespace
+
 void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
-  const double h = 0.5 * spring_dt;  // predicted v(t+dt) = v(t+dt/2) + h a(t)
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
   const LawCoefficients law = law_;
@@ -20,13 +59,6 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   const double* x = p_.x.data();
   const double* y = p_.y.data();
   const double* r = p_.r.data();
-  const double* vx = p_.vx.data();
-  const double* vy = p_.vy.data();
-  const double* w = p_.w.data();
-  const double* ax = p_.ax.data();
-  const double* ay = p_.ay.data();
-  const double* al = p_.alpha.data();
-  const double* inv_m = p_.inv_m.data();
   const int* owner = nl_.owner.data();
   const int* partner = nl_.partner.data();
   double* sx = nl_.sx.data();
@@ -86,56 +118,48 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   // chains of divisions and square roots of several contacts overlap), then the sums. Every
   // contact goes through the same operations as one at a time: the same bits.
   constexpr std::size_t kBatch = 32;
-  // r_eff and m_eff of each pair, computed by the same expressions at the list build (valid
-  // until a radius changes)
-  const bool pair_consts = !radii_scaled_;
-  const double* reff = pair_reff_.data();
-  const double* meff = pair_meff_.data();
+  // the pairs' kinematics (PairInputs::of); r_eff and m_eff of each pair computed by the same
+  // expressions at the list build (valid until a radius changes)
+  const PairInputs in{opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), p_.vx.data(), p_.vy.data(),
+                        p_.w.data(), p_.ax.data(), p_.ay.data(), p_.alpha.data(), p_.inv_m.data(),
+                        pair_reff_.data(), pair_meff_.data(), nl_.owner.data(), nl_.partner.data(),
+                        !radii_scaled_, 0.5 * spring_dt, spring_dt};
   // the batch in structure-of-arrays form (contact_law_batch.h); value-initialised: lanes
   // past a short batch hold finite numbers
   ContactBatch cb{};
   static_assert(kBatch == ContactBatch::kLanes);
   const std::size_t nt = n_touching;
-  if (frictionless_ && mu == 0.0) {
-    frictionless_chunk(chunk, spring_dt, max_ov);
-    return;
-  }
+  // The frictionless path (set_frictionless_path, mu = 0): the normal force only. The Coulomb
+  // cap makes F_t zero in the general law, so the forces are the same (the torques +-0), and no
+  // spring is read or written: they stay zero (the general law would store -B_t v_t / A_t on
+  // slip, which no force reads while mu = 0).
+  const bool normal_only = frictionless_ && mu == 0.0;
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
     const std::int64_t* kb = touching + b0;
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
-      const int i = owner[k], j = partner[k];
-      const double ri = r[i], rj = r[j];
-      double dx = x[i] - x[j], dy = y[i] - y[j];
-      box.min_image(dx, dy);
-      const double rs = ri + rj;
-      const double dist = std::sqrt(dx * dx + dy * dy);
-      const double inv_dist = 1.0 / dist;
-      ContactKinematics kin;
-      kin.nx = dx * inv_dist;
-      kin.ny = dy * inv_dist;
-      kin.delta = rs - dist;
-      if (pair_consts) {
-        kin.r_eff = reff[k];
-        kin.m_eff = meff[k];
+      const ContactKinematics kin = in.of(k);
+      if (normal_only) {
+        const double fn = normal_contact_force(law, kin);
+        cb.nx[b] = kin.nx;
+        cb.ny[b] = kin.ny;
+        cb.delta[b] = kin.delta;
+        cb.fx[b] = fn * kin.nx;
+        cb.fy[b] = fn * kin.ny;
+        cb.ftx[b] = cb.fty[b] = 0.0;
       } else {
-        kin.r_eff = ri * rj / rs;
-        kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+        cb.set(b, kin, sx[k], sy[k]);
       }
-      // predicted velocities at t+dt, then the half-step velocities
-      contact_point_motion(kin.nx, kin.ny, ri, rj,
-                           {vx[i] + h * ax[i], vy[i] + h * ay[i], w[i] + h * al[i]},
-                           {vx[j] + h * ax[j], vy[j] + h * ay[j], w[j] + h * al[j]},
-                           {vx[i], vy[i], w[i]}, {vx[j], vy[j], w[j]}, spring_dt, kin);
-      cb.set(b, kin, sx[k], sy[k]);
     }
-    contact_force_batch(law, mu, cb, nb);
+    if (!normal_only) contact_force_batch(law, mu, cb, nb);
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
-      sx[k] = cb.sx[b];
-      sy[k] = cb.sy[b];
+      if (!normal_only) {
+        sx[k] = cb.sx[b];
+        sy[k] = cb.sy[b];
+      }
       const double fxb = cb.fx[b], fyb = cb.fy[b];
       const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
       if (store) {
@@ -170,91 +194,5 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   }
 }
 
-
-/// The touching pairs of a chunk (after chunk_forces' screen) with mu = 0: the normal force
-/// only. The Coulomb cap makes F_t zero in the general law, so the forces and torques are the
-/// same (the torque +-0), and no tangential spring is read or written: the springs stay
-/// zero (the general law would store -B_t v_t / A_t on slip, which no force ever reads while
-/// mu = 0; set_frictionless_path() says when this is used).
-void DemSystem::frictionless_chunk(int chunk, double spring_dt, double& max_ov) {
-  const double h = 0.5 * spring_dt;
-  const PeriodicBox box = opt_.box;
-  const LawCoefficients law = law_;
-  const double* x = p_.x.data();
-  const double* y = p_.y.data();
-  const double* r = p_.r.data();
-  const double* vx = p_.vx.data();
-  const double* vy = p_.vy.data();
-  const double* w = p_.w.data();
-  const double* ax = p_.ax.data();
-  const double* ay = p_.ay.data();
-  const double* al = p_.alpha.data();
-  const double* inv_m = p_.inv_m.data();
-  const int* owner = nl_.owner.data();
-  const int* partner = nl_.partner.data();
-  double* pfx = nl_.fx.data();
-  double* pfy = nl_.fy.data();
-  double* pq = nl_.q.data();
-  const int ng = n_grains_;
-  const bool scatter = team_ == 1;
-  const bool store = !scatter || store_pair_forces_;
-  double* sfx = fx_.data();
-  double* sfy = fy_.data();
-  std::uint8_t* touched = touched_.data();
-  const bool pair_consts = !radii_scaled_;
-  const double* reff = pair_reff_.data();
-  const double* meff = pair_meff_.data();
-  const TouchList& tl = touch_[chunk];
-  for (std::size_t a = 0; a < tl.n; ++a) {
-    const std::int64_t k = tl.k[a];
-    const int i = owner[k], j = partner[k];
-    const double ri = r[i], rj = r[j];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    box.min_image(dx, dy);
-    const double rs = ri + rj;
-    const double dist = std::sqrt(dx * dx + dy * dy);
-    const double inv_dist = 1.0 / dist;
-    ContactKinematics kin;
-    kin.nx = dx * inv_dist;
-    kin.ny = dy * inv_dist;
-    kin.delta = rs - dist;
-    if (pair_consts) {
-      kin.r_eff = reff[k];
-      kin.m_eff = meff[k];
-    } else {
-      kin.r_eff = ri * rj / rs;
-      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
-    }
-    contact_point_motion(kin.nx, kin.ny, ri, rj,
-                         {vx[i] + h * ax[i], vy[i] + h * ay[i], w[i] + h * al[i]},
-                         {vx[j] + h * ax[j], vy[j] + h * ay[j], w[j] + h * al[j]},
-                         {vx[i], vy[i], w[i]}, {vx[j], vy[j], w[j]}, spring_dt, kin);
-    const double fn = normal_contact_force(law, kin);
-    const double fxb = fn * kin.nx, fyb = fn * kin.ny;
-    if (store) {
-      pfx[k] = fxb;
-      pfy[k] = fyb;
-      pq[k] = 0.0;
-    }
-    if (scatter) {
-      sfx[i] += fxb;
-      sfy[i] += fyb;
-      touched[i] = 1;
-      if (j < ng) {
-        sfx[j] -= fxb;
-        sfy[j] -= fyb;
-        touched[j] = 1;
-      }
-    } else {
-      __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
-      if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
-    }
-    const double dmin = 2.0 * std::min(ri, rj);
-    if (kin.delta > max_ov * dmin * (1.0 - 1e-12)) {
-      const double ov = kin.delta / dmin;
-      if (ov > max_ov) max_ov = ov;
-    }
-  }
-}
 
 }  // namespace grainlift::dem

@@ -184,7 +184,6 @@ class DemSystem {
   void for_each_gap(F f) const;
   /// Pair forces of the rows of one chunk (pass 1: distance checks, pass 2: contact law).
   void chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check);
-  void frictionless_chunk(int chunk, double spring_dt, double& max_ov);
   /// The intruder's own contacts (serial, fixed order).
   void intruder_forces(double spring_dt, double& max_ov);
   enum class Kick { first, sync, drift };
