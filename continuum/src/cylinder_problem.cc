@@ -291,8 +291,7 @@ void CylinderProblem::solve_next_level(int level) {
   if (problem_->report().converged) return;
   say("continuum: the interpolated level did not converge; the whole continuation on this "
       "mesh from the far field");
-  problem_->interpolate_initial_guess();
-  done_delta_ = -1;
+  problem_->interpolate_initial_guess();  // done_delta_ is still -1: splits from the first stage
   for (const double delta : schedule_) todo_.push_back({delta, false});
   todo_.push_back({config_.rheology.delta, true});
   solve_with_continuation();

@@ -133,7 +133,7 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   // cap makes F_t zero in the general law, so the forces are the same (the torques +-0), and no
   // spring is read or written: they stay zero (the general law would store -B_t v_t / A_t on
   // slip, which no force reads while mu = 0).
-  const bool normal_only = frictionless_ && mu == 0.0;
+  const bool normal_only = frictionless_path_active();
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
     const std::int64_t* kb = touching + b0;

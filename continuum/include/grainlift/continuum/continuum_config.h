@@ -84,8 +84,8 @@ struct ContinuumConfig {
   int adaptive_cycles = 0;
   /// Nested iteration: the continuation runs on refinement 0, each finer level up to
   /// `refinement` starts from the interpolated coarser solution and solves the final stage
-  /// only (the continuation's last two stages only where that fails); false: the whole
-  /// continuation on the requested mesh.
+  /// only (a level where that fails is solved again through the whole continuation from the
+  /// far field); false: the whole continuation on the requested mesh.
   bool nested = true;
   double nonlinear_tolerance = 1e-8;    ///< relative residual
   int max_nonlinear_iterations = 50;
