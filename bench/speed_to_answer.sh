@@ -11,6 +11,8 @@
 #   replicas  --replicas 2 against one run, both on --threads 2: statistics per wall second
 #   fields    the saving of not accumulating fields (output.fields = false) on the reduced run
 #   frictionless  the saving of dem.frictionless_path on the reduced run with grains.friction = 0
+#   sleep     the saving of sleeping grains (dem.sleep, speed 0: the same bits) on the reduced
+#             dense and dilute runs and on the first 6 d of the full-size Kumar box
 #   fem       the FEM's error against time on the demo geometry, refinement 0-3, nested
 #             iteration on and off (scripts/fem_pareto.py)
 #   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
@@ -22,7 +24,7 @@
 # (default true / cores). About 25 minutes on 2 cores with REPS=3.
 set -euo pipefail
 BUILD=${1:-build}
-SECTIONS=${2:-"lammps threads replicas fields frictionless fem error"}
+SECTIONS=${2:-"lammps threads replicas fields frictionless sleep fem error"}
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 WORK=${WORK:-/tmp/grainlift_speed}
@@ -39,13 +41,15 @@ has() { [[ " $SECTIONS " == *" $1 "* ]]; }
 wall() { "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' "$1/summary.json"; }
 median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
 # timed NAME ARGS...: the reduced run with ARGS, REPS times (output in $WORK/NAME), median wall
-# time of the solver (summary.json) into $WORK/NAME.wall
+# time of the solver (summary.json) into $WORK/NAME.wall. Another case: TCASE (file) and the
+# array TSET (its --set options) in place of KUMAR and KSET.
 timed() {
   local name=$1; shift
-  local w=()
+  local w=() set=("${KSET[@]}")
+  [[ -n ${TSET+x} ]] && set=("${TSET[@]}")
   for ((r = 0; r < REPS; ++r)); do
     sleep 1
-    "$GL" run "$KUMAR" --solver dem "${KSET[@]}" "$@" --out "$WORK/$name" --quiet >/dev/null
+    "$GL" run "${TCASE:-$KUMAR}" --solver dem "${set[@]}" "$@" --out "$WORK/$name" --quiet >/dev/null
     w+=("$(wall "$WORK/$name")")
   done
   printf '%s\n' "${w[@]}" | median >"$WORK/$name.wall"
@@ -132,6 +136,38 @@ t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
 same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
 print(f"medians: general law {t[0]:.1f} s, frictionless path {t[1]:.1f} s: saves "
       f"{100 * (1 - t[1] / t[0]):.0f}%; same drag and lift bits: {same}")
+PYEOF
+fi
+
+if has sleep; then
+  echo; echo "## Sleeping grains (dem.sleep at speed 0) against none (one thread)"
+  timed sleep_dense_off --threads 1 --set dem.sleep=false
+  timed sleep_dense_on --threads 1 --set dem.sleep=true
+  TCASE="$ROOT/cases/kumar2019/reduced_phi035.toml"
+  timed sleep_dilute_off --threads 1 --set dem.sleep=false
+  timed sleep_dilute_on --threads 1 --set dem.sleep=true
+  # the full-size box (61,640 grains, V0 1 m/s, Omega 2): its first 6 d; the packing once
+  TCASE="$ROOT/cases/kumar2019/full_phi0818.toml"
+  TSET=(--set dem.travel=6 --set dem.steady_travel=1)
+  "$GL" run "$TCASE" --solver dem --set dem.travel=0.1 --set dem.steady_travel=0 --out "$WORK/prep_full" --quiet >/dev/null
+  timed sleep_full_off --threads 1 --set dem.sleep=false
+  timed sleep_full_on --threads 1 --set dem.sleep=true
+  unset TCASE TSET
+  "$PY" - "$WORK" <<'PYEOF'
+import json, sys, h5py
+work = sys.argv[1]
+print("| run | grains | no sleeping (s) | sleeping (s) | saving | grain-steps asleep | woken | same drag, lift bits |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.35, 30 d"),
+                  ("full", "full box Phi 0.818, first 6 d")):
+    off, on = (f"{work}/sleep_{tag}_{s}" for s in ("off", "on"))
+    t = [float(open(d + ".wall").read()) for d in (off, on)]
+    w = [json.load(open(d + "/summary.json"))["dem"] for d in (off, on)]
+    same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
+    diag = h5py.File(on + "/dem.h5")["diagnostics"].attrs
+    grains = int(h5py.File(on + "/dem.h5")["diagnostics"].attrs.get("grains", 0))
+    print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - t[1] / t[0]):.0f}% | "
+          f"{100 * float(diag['sleeping_fraction']):.0f}% | {int(diag['sleep_wakes'])} | {same} |")
 PYEOF
 fi
 

@@ -299,6 +299,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.sample_every = c.dem.sample_every;
   d.field_every = c.dem.field_every;
   d.frictionless_path = c.dem.frictionless_path;
+  d.sleep_speed = c.dem.sleep ? c.dem.sleep_speed * std::hypot(c.intruder.velocity[0], c.intruder.velocity[1]) : -1.0;
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
   d.packing_cache_dir = cache_folder(c.dem.packing_cache, "packings");
@@ -376,6 +377,11 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
   }
   RunResult r = to_result(c, out);
   r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
+  if (cfg.sleep_speed >= 0) {
+    r.diagnostics.values["sleeping_fraction"] = out.sleeping_fraction;
+    r.diagnostics.counts["sleep_wakes"] = out.sleep_wakes;
+    r.diagnostics.counts["sleep_wake_builds"] = out.sleep_wake_builds;
+  }
   if (target > 0) {
     const RelativeErrors final_errors = relative_errors(c, out);
     const double travel = c.dem.travel * double(out.steps) / double(out.planned_steps);

@@ -93,6 +93,9 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   ic_old_ = IntruderContacts{};
   ic_slot_.assign(static_cast<std::size_t>(n_grains_), -1);
   growth_since_build_ = 0;
+  sleep_active_ = false;
+  wake_pending_ = 0;
+  sleeping_now_ = 0;
   primed_ = false;
 }
 
@@ -312,6 +315,7 @@ void DemSystem::advance(long long n) {
     const long long k = team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
     account_segment(k, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     done += k;
+    sleep_grain_steps_ += static_cast<double>(sleeping_now_) * static_cast<double>(k);
     if (drifted_) build_lists();
   }
 }

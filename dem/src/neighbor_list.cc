@@ -173,17 +173,47 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
     for (int i = 0; i < merge_rows; ++i) merge_row(i);
   }
 
-  // ---- reverse index: pairs where a particle is the partner, in pair order
+  build_reverse_index(n_total);
+}
+
+void NeighborList::build_reverse_index(int n_total) {
+  const std::size_t np = partner.size();
   rfirst.assign(static_cast<std::size_t>(n_total) + 1, 0);
   for (std::size_t k = 0; k < np; ++k) ++rfirst[partner[k] + 1];
   for (int j = 0; j < n_total; ++j) rfirst[j + 1] += rfirst[j];
   rpair.resize(np);
-  {
-    rcursor_.assign(rfirst.begin(), rfirst.end() - 1);
-    for (int i = 0; i < n_mobile; ++i) {
-      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) rpair[rcursor_[partner[k]]++] = k;
-    }
+  rcursor_.assign(rfirst.begin(), rfirst.end() - 1);
+  for (int i = 0; i < n_mobile_; ++i) {
+    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) rpair[rcursor_[partner[k]]++] = k;
   }
+}
+
+std::size_t NeighborList::drop_dormant_pairs(const std::uint8_t* dormant) {
+  const std::size_t np = partner.size();
+  std::size_t out = 0;
+  std::int64_t row_begin = 0;
+  for (int i = 0; i < n_mobile_; ++i) {
+    const std::int64_t b = first[i], e = first[i + 1];
+    first[i] = row_begin;
+    for (std::int64_t k = b; k < e; ++k) {
+      if (dormant[i] && dormant[partner[k]]) continue;
+      partner[out] = partner[k];
+      owner[out] = i;
+      sx[out] = sx[k];
+      sy[out] = sy[k];
+      fx[out] = fx[k];
+      fy[out] = fy[k];
+      q[out] = q[k];
+      ++out;
+    }
+    row_begin = static_cast<std::int64_t>(out);
+  }
+  first[n_mobile_] = row_begin;
+  for (auto* v : {&sx, &sy, &fx, &fy, &q}) v->resize(out);
+  partner.resize(out);
+  owner.resize(out);
+  build_reverse_index(static_cast<int>(rfirst.size()) - 1);
+  return np - out;
 }
 
 }  // namespace grainlift::dem

@@ -156,6 +156,7 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
+      if (sleep_active_) wake(i, j);
       if (!normal_only) {
         sx[k] = cb.sx[b];
         sy[k] = cb.sy[b];

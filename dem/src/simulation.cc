@@ -123,6 +123,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   s.set_store_pair_forces(c.fields.enabled);  // only the contact stress (and the lid) read them
   s.set_frictionless_path(c.frictionless_path);  // the run keeps its mu: no spring is ever read
   out.frictionless_path = s.frictionless_path_active();
+  s.set_sleep(c.sleep_speed);
   if (c.lid_pressure > 0) {
     s.attach_lid(PressureLid(c, s));
     out.lid_mass = s.lid()->mass();
@@ -238,6 +239,11 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   out.threads_used = s.threads_used();
   out.threads_allowed = s.threads_allowed();
   out.steps_on_team = s.steps_on_team();
+  if (s.steps() > 0) {
+    out.sleeping_fraction = s.sleeping_grain_steps() / (double(s.steps()) * std::max(1, s.grains()));
+  }
+  out.sleep_wakes = s.woken();
+  out.sleep_wake_builds = s.wake_builds();
   return out;
 }
 

@@ -174,6 +174,12 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
   __m512d md2 = _mm512_set1_pd(max_d2);
   for (; i + 8 <= hi; i += 8) {
     std::uint64_t f, t;
+    if (k.dormant) {
+      // eight sleepers: the kick would leave every bit of them as it is (sleeping.cc)
+      std::uint64_t s;
+      std::memcpy(&s, k.dormant + i, 8);
+      if (s == kOnes) continue;
+    }
     std::memcpy(&f, k.flags + i, 8);
     std::memcpy(&t, k.touched + i, 8);
     __m512d kx = hax, ky = hay, kw = hal;  // h a of each lane

@@ -31,6 +31,8 @@ struct PlainKick {
   const float* yb;
   std::uint8_t* flags;    ///< per grain: candidate_bit, accel_bit
   std::uint8_t* touched;  ///< per grain: 1 if a listed pair touches
+  /// per grain: 1 if asleep (sleeping.cc: the kick leaves its bits as they are), or nullptr
+  const std::uint8_t* dormant;
   double dt, h, damp;
   double ax0, ay0, al0;  ///< the accelerations of a grain without force
   // one thread (scatter): the pair-force sums per grain, and what the accelerations need
@@ -51,7 +53,7 @@ struct PlainKick {
 
 /// @brief From row i on, in groups of eight, what DemSystem::finish_impl does: the second
 /// half kick (and with drift, the next half kick and drift) of grains without any force
-/// (flags and touched 0), and with scatter also of grains with pair forces (summed in sfx,
+/// (flags and touched 0; groups of eight sleepers are skipped), and with scatter also of grains with pair forces (summed in sfx,
 /// sfy, sq) and their accelerations; stops at the first group with a grain it does not
 /// handle (a candidate of the intruder; any force without scatter), or fewer than eight
 /// rows before hi. Returns the row where it stopped (i itself when it did nothing or without

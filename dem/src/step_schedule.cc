@@ -20,6 +20,8 @@ bool DemSystem::rebuild_due(double max_d2, double intruder_disp, bool fresh) con
   // says; without this a box so large that the float rounding of the build positions
   // (build_round_) exceeded skin / 2 would rebuild forever instead of every step.
   if (fresh) return false;
+  // a sleeper woke: its pairs with other sleepers must be listed before it moves again
+  if (__atomic_load_n(&wake_pending_, __ATOMIC_RELAXED)) return true;
   const double md = std::sqrt(max_d2) + build_round_ + growth_since_build_;
   return 2.0 * md > skin_ || intruder_disp + md > skin_;
 }

@@ -63,8 +63,9 @@ double DemSystem::finish_impl(int lo, int hi) {
   // Runs of eight grains without any force by the vector loop (the same operations), the
   // others one by one, a group of eight at a time.
   const bool simd = kMode != Kick::first && detail::avx512_enabled();
+  const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
   detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
-                          dt,    h,     damp,   ax0,    ay0,   al0, kScatter, sfx,       sfy,
+                          dormant, dt,    h,     damp,   ax0,    ay0,   al0, kScatter, sfx,       sfy,
                           sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
                           kCandidate, kAccelSet, box};
   for (int i = lo; i < hi;) {
@@ -77,6 +78,7 @@ double DemSystem::finish_impl(int lo, int hi) {
     }
     const int group_end = simd ? std::min(hi, i + 8) : hi;
     for (; i < group_end; ++i) {
+    if (dormant && dormant[i]) continue;  // asleep: the kick leaves its bits (sleeping.cc)
     double axn, ayn, aln;
     const std::uint8_t fl = flags[i];
     if (!touched[i] && !(fl & kCandidate)) {

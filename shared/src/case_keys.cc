@@ -123,6 +123,14 @@ std::vector<KeySpec> make_keys() {
                       "with grains.friction = 0, evaluate grain contacts by their normal force "
                       "only (no tangential history): the same trajectories, less work "
                       "(docs/performance.md); false: the general law"));
+  k.push_back(boolean("dem.sleep", "true",
+                      "sleeping grains: grains far from the intruder that are at rest, with "
+                      "neighbours at rest, leave the step until something touches them "
+                      "(scenes without gravity; docs/performance.md)"));
+  k.push_back(real("dem.sleep_speed", false, "0.0", 0, 1, false, false, "V",
+                   "with dem.sleep: grains at most this fraction of the intruder speed may sleep "
+                   "and are stopped; 0: only grains exactly at rest (the same trajectories as "
+                   "without sleeping, bit for bit)"));
   k.push_back(integer("dem.seed", "1", 0, 9.2e18, "random seed: packing and size distribution"));
   k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
   k.push_back(integer("dem.field_every", "500", 1, 1e9,

@@ -507,6 +507,8 @@ Case build_case(const toml::table& root) {
   dm.steady_travel = get_real(r, "dem.steady_travel");
   dm.target_error = get_real(r, "dem.target_error");
   dm.frictionless_path = get_bool(r, "dem.frictionless_path");
+  dm.sleep = get_bool(r, "dem.sleep");
+  dm.sleep_speed = get_real(r, "dem.sleep_speed");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));
   dm.field_every = int(get_int(r, "dem.field_every"));

@@ -6,9 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
+#include "grainlift/dem/block_average.h"
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/packing.h"
@@ -202,6 +204,71 @@ TEST(Simulation, FrictionlessPathGivesTheBitsOfTheGeneralLaw) {
   c.contact.friction = 0.5;  // with friction the switch does nothing
   c.frictionless_path = true;
   EXPECT_FALSE(gd::run_simulation(c).frictionless_path);
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
+// Physics: a grain at rest with no force and neighbours at rest stays exactly where it is until
+// something touches it; sleeping at speed 0 stops no grain that moves, so the run must give the
+// trajectories of a run without sleeping: the intruder's samples bit-identical (exact
+// equality), on one and two threads, and with a pressure lid (whose disks move: grains by it
+// stay awake). The scene must really exercise the path: over the run at least 5% of the
+// grain-steps asleep (10-13% measured), and grains woken by contact (the front reaching them).
+TEST(Simulation, SleepingAtZeroSpeedGivesTheBitsOfARunWithout) {
+  auto c = small_case(60, 24, 0.8);
+  c.seed = 13;
+  c.travel = 3.0;
+  c.steady_travel = 0.5;
+  c.packing_cache_dir = temp_cache_dir("sleep");
+  for (double lid : {0.0, 200.0}) {
+    for (int threads : {1, 2}) {
+      c.lid_pressure = lid;
+      c.threads = threads;
+      c.sleep_speed = 0.0;
+      const auto asleep = gd::run_simulation(c);
+      c.sleep_speed = -1.0;
+      const auto awake = gd::run_simulation(c);
+      SCOPED_TRACE("lid " + std::to_string(lid) + " N/m, threads " + std::to_string(threads));
+      EXPECT_GT(asleep.sleeping_fraction, 0.05);
+      EXPECT_GT(asleep.sleep_wakes, 0);
+      EXPECT_EQ(awake.sleeping_fraction, 0.0);
+      expect_same_samples(asleep, awake);
+    }
+  }
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
+// Physics: with sleep_speed > 0 grains that still creep (at most 5% of V0 here, far above the
+// default 0) are stopped when they fall asleep: an approximation of the far field only, so
+// the mean drag and lift over the steady part must stay within three combined standard
+// errors (block averages) of the run without sleeping, while at least 5% of the grain-steps are asleep.
+TEST(Simulation, SleepingSlowGrainsKeepsTheForcesWithinTheirErrors) {
+  auto c = small_case(60, 24, 0.8);
+  c.seed = 14;
+  c.travel = 4.0;
+  c.steady_travel = 1.0;
+  c.packing_cache_dir = temp_cache_dir("sleep_slow");
+  c.sleep_speed = 0.05 * std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
+  const auto asleep = gd::run_simulation(c);
+  c.sleep_speed = -1.0;
+  const auto awake = gd::run_simulation(c);
+  EXPECT_GT(asleep.sleeping_fraction, 0.05);
+  for (int axis : {0, 1}) {
+    const auto stats = [&](const gd::DemOutput& o) {
+      std::vector<double> v;
+      for (std::size_t k = o.steady_start_index; k < o.samples.size(); ++k) {
+        v.push_back(axis == 0 ? o.samples[k].fx : o.samples[k].fy);
+      }
+      return gd::mean_and_error(gd::block_means(v, 0, v.size(), 10));
+    };
+    const auto a = stats(asleep), b = stats(awake);
+    const double combined = std::hypot(a.se, b.se);
+    EXPECT_LE(std::abs(a.mean - b.mean), 3.0 * combined)
+        << (axis == 0 ? "drag" : "lift") << ": " << a.mean << " +- " << a.se << " asleep against "
+        << b.mean << " +- " << b.se;
+    EXPECT_GT(combined, 0.0);
+    std::printf("%s: %.4g +- %.2g N/m asleep (%.1f%% of grain-steps), %.4g +- %.2g N/m awake\n",
+                axis == 0 ? "fx" : "fy", a.mean, a.se, 100 * asleep.sleeping_fraction, b.mean, b.se);
+  }
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 

@@ -86,6 +86,9 @@ struct DemConfig {
   /// with contact.friction = 0: contacts by their normal force only (no tangential
   /// kinematics or history; the same trajectories, DemSystem::set_frictionless_path)
   bool frictionless_path = true;
+  /// m/s: grains at most this fast, at rest and far from the intruder, sleep
+  /// (DemSystem::set_sleep); 0: only grains exactly at rest; < 0: no sleeping
+  double sleep_speed = 0;
 
   // ---- added by the DEM engine (defaults keep the meaning of the fields above)
   /// m/s, impact speed of the binary collision time used for the dt check;

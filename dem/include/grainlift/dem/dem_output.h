@@ -61,6 +61,11 @@ struct DemOutput {
   long long steps = 0;                    ///< steps run
   long long planned_steps = 0;            ///< steps of the whole travel
   bool frictionless_path = false;         ///< contacts by normal force only (mu = 0, DemConfig::frictionless_path)
+  /// sleeping grains (DemConfig::sleep_speed >= 0): mean fraction of the grains asleep over
+  /// the run's steps, grains woken by contact, list builds forced by a wake
+  double sleeping_fraction = 0;
+  long long sleep_wakes = 0;
+  int sleep_wake_builds = 0;
   bool stopped_early = false;             ///< a RunMonitor ended the run before the travel
   int list_builds = 0;                    ///< Verlet-list builds during the run
   int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)

@@ -116,6 +116,24 @@ class DemSystem {
   void set_frictionless_path(bool on) { frictionless_ = on; }
   /// Whether the contacts are now evaluated by the frictionless path.
   bool frictionless_path_active() const { return frictionless_ && mu_ == 0.0; }
+  /// @brief Sleeping grains (sleeping.cc): at every list build, a grain that moves at most
+  /// @p speed (m/s; |v_x|, |v_y| and |omega| r each), felt no force at the last step, lies
+  /// farther than kSleepReach intruder radii from the intruder's surface and whose neighbours
+  /// within kSleepHops list hops are likewise quiet is stopped (v = omega = 0) and put to
+  /// sleep: its pairs with other sleepers and static walls leave the list, so the step does
+  /// not screen them. A sleeper touched by an awake grain wakes, and the lists are rebuilt
+  /// before the next step, so no contact is ever missed. @p speed = 0 puts only grains exactly
+  /// at rest to sleep (the same bits as without sleeping); < 0 turns sleeping off (default).
+  /// Inactive under gravity or background damping (a grain at rest there bears contacts).
+  void set_sleep(double speed) { sleep_speed_ = speed; }
+  /// Grains asleep after the last list build.
+  int sleeping() const { return sleeping_now_; }
+  /// Grain-steps spent asleep so far (a grain woken inside a segment counts to its end).
+  double sleeping_grain_steps() const { return sleep_grain_steps_; }
+  /// List builds forced by a sleeper woken by contact.
+  int wake_builds() const { return wake_builds_; }
+  /// Grains woken by contact so far.
+  long long woken() const { return woken_; }
   /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
   void set_background_damping(double rate) { damping_rate_ = rate; }
   /// @brief Multiply every grain radius by factor (soft compression by radius growth).
@@ -205,6 +223,15 @@ class DemSystem {
   /// rounding of the build positions, radius growth and frozen-disk motion), or the intruder
   /// and a grain by the skin together. Never right after a build (fresh).
   bool rebuild_due(double max_d2, double intruder_disp, bool fresh) const;
+  /// Sleeping grains (set_sleep): choose the sleepers from the new, full list and remove
+  /// their pairs from it (sleeping.cc). Called by build_lists() right after the list build.
+  void update_sleep();
+  /// Wake the sleepers among the grains of touching pair (i, j) (pair loop; any thread).
+  void wake(int i, int j);
+  /// Intruder radii beyond its surface within which no grain sleeps, and the list hops over
+  /// which a moving grain keeps its neighbours awake.
+  static constexpr double kSleepReach = 2.0;
+  static constexpr int kSleepHops = 2;
   /// The boundaries of stage 3: the lid, from the pair forces of this step.
   void step_boundaries();
   /// The clock, and the intruder's drift of the next step unless @p last (its displacement
@@ -295,6 +322,18 @@ class DemSystem {
   /// cleared by the final kick; the kick of a grain without contact reads no pair force)
   std::vector<std::uint8_t> touched_;
   double build_round_ = 0;  ///< m, bound on the float rounding of x_build, y_build
+  // ---- sleeping grains (set_sleep, sleeping.cc)
+  double sleep_speed_ = -1;   ///< m/s; < 0: off
+  bool sleep_active_ = false;  ///< some body is dormant in the current list
+  /// per body (grains, then frozen disks): 1 if asleep (grains) or static (frozen disks):
+  /// the pairs of two dormant bodies are not in the list
+  std::vector<std::uint8_t> dormant_;
+  std::vector<std::uint8_t> sleep_near_, sleep_next_;  ///< scratch of update_sleep()
+  std::uint8_t wake_pending_ = 0;  ///< a sleeper woke: rebuild before the next step (atomic access)
+  int sleeping_now_ = 0;
+  double sleep_grain_steps_ = 0;
+  int wake_builds_ = 0;
+  long long woken_ = 0;
   double ifx_ = 0, ify_ = 0, itq_ = 0;
   int intruder_touching_ = 0;
   double max_overlap_ = 0;

@@ -25,6 +25,12 @@ class NeighborList {
   /// @brief Forget every pair and its history (new set of bodies).
   void clear();
 
+  /// @brief Remove the pairs whose two bodies are both marked in @p dormant (one byte per
+  /// body, grains and frozen disks), keeping row order, histories and the reverse index
+  /// consistent. Returns the pairs removed. Used for sleeping grains (sleeping.cc): the caller
+  /// guarantees such pairs are apart and stay apart while both stay marked.
+  std::size_t drop_dormant_pairs(const std::uint8_t* dormant);
+
   int rows() const { return n_mobile_; }
   std::size_t pairs() const { return partner.size(); }
 
@@ -47,6 +53,8 @@ class NeighborList {
   std::vector<std::int64_t> rcursor_;
   std::vector<std::vector<int>> thread_partner_;
   std::vector<std::vector<std::int64_t>> thread_count_;
+  /// Fill rfirst/rpair from first/partner (pairs where a body is the partner, in pair order).
+  void build_reverse_index(int n_total);
 };
 
 }  // namespace grainlift::dem

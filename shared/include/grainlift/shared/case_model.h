@@ -67,6 +67,8 @@ struct DemSection {
   int sample_every{};
   int field_every{};
   bool frictionless_path{};  ///< grains.friction = 0: normal forces only
+  bool sleep{};              ///< sleeping grains
+  double sleep_speed{};      ///< fraction of |V0| below which a grain may sleep
   double relax_ke{};       ///< J per grain
   std::string packing_cache;
 };
