@@ -1,6 +1,10 @@
 // Coarse graining on the intruder-frame grid (Kumar 2019 appendix).
 #include "grainlift/dem/field_accumulator.h"
 
+#include <string>
+
+#include "grainlift/dem/errors.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -122,6 +126,23 @@ FieldAverages FieldAccumulator::finish() const {
     f.syy[b] = syy_[b] / snapshots_;
   }
   return f;
+}
+
+void FieldAccumulator::restore(const FieldSums& s) {
+  for (const auto* v : {&s.gamma, &s.gvx, &s.gvy, &s.gv2, &s.sxx, &s.sxy, &s.syy}) {
+    if (v->size() != gamma_.size()) {
+      throw ConfigError("the checkpoint's field sums have " + std::to_string(v->size()) +
+                        " bins, this grid " + std::to_string(gamma_.size()));
+    }
+  }
+  snapshots_ = s.snapshots;
+  gamma_ = s.gamma;
+  gvx_ = s.gvx;
+  gvy_ = s.gvy;
+  gv2_ = s.gv2;
+  sxx_ = s.sxx;
+  sxy_ = s.sxy;
+  syy_ = s.syy;
 }
 
 }  // namespace grainlift::dem

@@ -3,6 +3,7 @@
 #include "grainlift/dem/lid.h"
 
 #include <cmath>
+#include <string>
 
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
@@ -55,6 +56,17 @@ PressureLid::PressureLid(const DemConfig& c, const DemSystem& s, double shear_ve
     disk_y_.assign(std::size_t(disks()), y_top);
     disk_velocity_.assign(std::size_t(disks()), 0.0);
   }
+}
+
+void PressureLid::restore(const LidState& state, const std::vector<double>& disk_y,
+                          const std::vector<double>& disk_velocity) {
+  if (disk_y.size() != disk_y_.size() || disk_velocity.size() != disk_velocity_.size()) {
+    throw ConfigError("the saved lid has " + std::to_string(disk_y.size()) +
+                      " free disks, this one " + std::to_string(disk_y_.size()));
+  }
+  state_ = state;
+  disk_y_ = disk_y;
+  disk_velocity_ = disk_velocity;
 }
 
 namespace {

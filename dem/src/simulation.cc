@@ -2,10 +2,12 @@
 #include "grainlift/dem/simulation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
 
+#include "grainlift/dem/checkpoint.h"
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/far_field_stress.h"
@@ -107,15 +109,29 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
 
 DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
                          const RunMonitor& monitor) {
+  return run_simulation(c, progress, monitor, {});
+}
+
+DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
+                         const RunMonitor& monitor, const RunControl& control) {
   DemOutput out;
+  const RunCheckpoint* resume = control.resume;
   out.collision_time = validate_config(c);
   const double d = c.grain_diameter;
 
-  const PackedBed bed = prepare_packing(c, progress);
-  out.packing_from_cache = bed.from_cache;
-  out.achieved_area_fraction = bed.area_fraction;
-
-  const std::unique_ptr<DemSystem> system = system_on_bed(c, bed);
+  std::unique_ptr<DemSystem> system;
+  if (resume) {
+    // the bed, the outputs so far and the system's state come from the checkpoint
+    out = resume->out;
+    out.resumed_from_step = resume->step;
+    system = std::make_unique<DemSystem>(system_options(c));
+    system->set_bodies(resume->system.grains, resume->system.frozen);
+  } else {
+    const PackedBed bed = prepare_packing(c, progress);
+    out.packing_from_cache = bed.from_cache;
+    out.achieved_area_fraction = bed.area_fraction;
+    system = system_on_bed(c, bed);
+  }
   DemSystem& s = *system;
   s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter,
                  c.intruder_velocity[0], c.intruder_velocity[1], c.intruder_omega,
@@ -137,14 +153,18 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     out.far_field_exclusion = region.exclusion;
     out.far_field_half_height = region.half_height;
   }
-  s.prepare();
-  const double ov0 = s.current_max_overlap_fraction();
-  if (ov0 > c.max_overlap_fraction) {
-    refuse("the prepared bed already overlaps by " + str(ov0) +
-           " of a grain diameter at rest, above max_overlap_fraction = " +
-           str(c.max_overlap_fraction) + ": the contacts are too soft for the load (gravity (" +
-           str(c.gravity[0]) + ", " + str(c.gravity[1]) + ") m/s^2, density " + str(c.density) +
-           " kg/m^2, grain diameter " + str(d) + " m); stiffen the contact law or lower the load");
+  if (resume) {
+    s.restore(resume->system);
+  } else {
+    s.prepare();
+    const double ov0 = s.current_max_overlap_fraction();
+    if (ov0 > c.max_overlap_fraction) {
+      refuse("the prepared bed already overlaps by " + str(ov0) +
+             " of a grain diameter at rest, above max_overlap_fraction = " +
+             str(c.max_overlap_fraction) + ": the contacts are too soft for the load (gravity (" +
+             str(c.gravity[0]) + ", " + str(c.gravity[1]) + ") m/s^2, density " + str(c.density) +
+             " kg/m^2, grain diameter " + str(d) + " m); stiffen the contact law or lower the load");
+    }
   }
   out.grains = s.grains();
   out.wall_grains = s.frozen();
@@ -155,13 +175,40 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   const long long progress_every = std::max(1LL, n_steps / 100);
   const bool report = progress || monitor;
   out.samples.reserve(static_cast<std::size_t>(n_steps / c.sample_every + 1));
-  out.steady_start_index = static_cast<std::size_t>(-1);
   FieldAccumulator fields(c.fields);
+  long long k0 = 0;
+  if (resume) {
+    if (resume->planned_steps != n_steps) {
+      refuse("the checkpoint is of a run of " + str(resume->planned_steps) + " steps, this one has " +
+             str(n_steps) + ": another travel, dt or intruder speed");
+    }
+    fields.restore(resume->fields);
+    k0 = resume->step;
+  } else {
+    out.steady_start_index = static_cast<std::size_t>(-1);
+  }
+  // checkpoints: the next step count and wall time at which one is due
+  const auto wall0 = std::chrono::steady_clock::now();
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  };
+  long long next_checkpoint_step =
+      control.checkpoint_steps > 0 ? (k0 / control.checkpoint_steps + 1) * control.checkpoint_steps : -1;
+  double next_checkpoint_time = control.checkpoint_seconds > 0 ? control.checkpoint_seconds : -1;
+  auto take_checkpoint = [&](long long k) {
+    RunCheckpoint ck;
+    ck.step = k;
+    ck.planned_steps = n_steps;
+    ck.system = s.snapshot();
+    ck.out = out;
+    ck.fields = fields.sums();
+    control.checkpoint(ck);
+  };
 
   // advance() runs the steps between two events (sample, field snapshot, progress report)
   // in one go; the state is the same as after single steps (the lid moves inside every step).
   auto next_multiple = [](long long k, long long every) { return (k / every + 1) * every; };
-  for (long long k = 0; k < n_steps;) {
+  for (long long k = k0; k < n_steps;) {
     long long next = std::min(n_steps, next_multiple(k, c.sample_every));
     if (c.fields.enabled) next = std::min(next, next_multiple(k, c.field_every));
     if (report) next = std::min(next, next_multiple(k, progress_every));
@@ -225,6 +272,25 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
         progress(fraction, "run");
       }
       if (stop && k < n_steps) {
+        out.stopped_early = true;
+        out.steps = k;
+        break;
+      }
+    }
+    if (k < n_steps) {
+      const bool interrupted = control.interrupted && control.interrupted();
+      bool due = interrupted;
+      if (next_checkpoint_step >= 0 && k >= next_checkpoint_step) {
+        due = true;
+        next_checkpoint_step = (k / control.checkpoint_steps + 1) * control.checkpoint_steps;
+      }
+      if (next_checkpoint_time >= 0 && seconds() >= next_checkpoint_time) {
+        due = true;
+        next_checkpoint_time = seconds() + control.checkpoint_seconds;
+      }
+      if (due && control.checkpoint) take_checkpoint(k);
+      if (interrupted) {
+        out.interrupted = true;
         out.stopped_early = true;
         out.steps = k;
         break;

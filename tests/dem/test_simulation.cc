@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "grainlift/dem/block_average.h"
+#include "grainlift/dem/checkpoint.h"
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/packing.h"
@@ -269,6 +270,80 @@ TEST(Simulation, SleepingSlowGrainsKeepsTheForcesWithinTheirErrors) {
     std::printf("%s: %.4g +- %.2g N/m asleep (%.1f%% of grain-steps), %.4g +- %.2g N/m awake\n",
                 axis == 0 ? "fx" : "fy", a.mean, a.se, 100 * asleep.sleeping_fraction, b.mean, b.se);
   }
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
+// Physics: a checkpoint holds the whole state between two steps (grains, accelerations,
+// springs, intruder, lid, outputs and field sums so far), so a run resumed from it must give
+// what the uninterrupted run gives: the same samples, contacts, lid and field sums, bit for
+// bit (exact equality), on one and two threads, with fields and a lid (its disks move). The
+// checkpoint goes through its byte encoding, and a flipped byte or a cut file is refused.
+TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
+  auto c = small_case(30, 20, 0.8);
+  c.seed = 21;
+  c.travel = 1.5;
+  c.steady_travel = 0.5;
+  c.fields.enabled = true;
+  c.fields.spacing = 0.5 * c.grain_diameter;
+  c.fields.x0 = c.fields.y0 = -4 * c.grain_diameter;
+  c.fields.nx = c.fields.ny = 16;
+  c.field_every = 100;
+  c.packing_cache_dir = temp_cache_dir("resume");
+  for (double lid : {0.0, 300.0}) {
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE("lid " + std::to_string(lid) + " N/m, threads " + std::to_string(threads));
+      c.lid_pressure = lid;
+      c.threads = threads;
+      const auto whole = gd::run_simulation(c);
+      // a checkpoint every 1,000 steps; keep the second (past the steady start: contacts, fields)
+      std::vector<std::vector<unsigned char>> saved;
+      gd::RunControl control;
+      control.checkpoint_steps = 1000;
+      control.checkpoint = [&](const gd::RunCheckpoint& ck) { saved.push_back(gd::encode_checkpoint(ck)); };
+      const auto with_checkpoints = gd::run_simulation(c, {}, {}, control);
+      expect_same_samples(whole, with_checkpoints);
+      ASSERT_GE(saved.size(), 2u);
+      const gd::RunCheckpoint ck = gd::decode_checkpoint(saved[1]);
+      EXPECT_EQ(ck.step, 2000);
+      gd::RunControl go_on;
+      go_on.resume = &ck;
+      const auto resumed = gd::run_simulation(c, {}, {}, go_on);
+      EXPECT_EQ(resumed.resumed_from_step, 2000);
+      expect_same_samples(whole, resumed);
+      ASSERT_EQ(whole.contacts.size(), resumed.contacts.size());
+      for (std::size_t k = 0; k < whole.contacts.size(); ++k) {
+        ASSERT_EQ(whole.contacts[k].fn, resumed.contacts[k].fn) << "contact " << k;
+        ASSERT_EQ(whole.contacts[k].theta, resumed.contacts[k].theta) << "contact " << k;
+      }
+      ASSERT_EQ(whole.lid.size(), resumed.lid.size());
+      for (std::size_t k = 0; k < whole.lid.size(); ++k) {
+        ASSERT_EQ(whole.lid[k].y, resumed.lid[k].y) << "lid sample " << k;
+      }
+      EXPECT_EQ(whole.fields.snapshots, resumed.fields.snapshots);
+      EXPECT_EQ(whole.fields.sxx, resumed.fields.sxx);
+      EXPECT_EQ(whole.fields.area_fraction, resumed.fields.area_fraction);
+      // damaged bytes are refused, never read
+      auto flipped = saved[1];
+      flipped[flipped.size() / 2] ^= 0x10;
+      EXPECT_THROW(gd::decode_checkpoint(flipped), gd::CheckpointError);
+      auto cut = saved[1];
+      cut.resize(cut.size() / 3);
+      EXPECT_THROW(gd::decode_checkpoint(cut), gd::CheckpointError);
+    }
+  }
+  // a checkpoint of another run length is refused
+  c.lid_pressure = 0;
+  c.threads = 1;
+  std::vector<unsigned char> one;
+  gd::RunControl control;
+  control.checkpoint_steps = 1000;
+  control.checkpoint = [&](const gd::RunCheckpoint& ck) { if (one.empty()) one = gd::encode_checkpoint(ck); };
+  gd::run_simulation(c, {}, {}, control);
+  const gd::RunCheckpoint ck = gd::decode_checkpoint(one);
+  c.travel = 2.0;
+  gd::RunControl go_on;
+  go_on.resume = &ck;
+  EXPECT_THROW(gd::run_simulation(c, {}, {}, go_on), gd::ConfigError);
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 

@@ -66,7 +66,9 @@ struct DemOutput {
   double sleeping_fraction = 0;
   long long sleep_wakes = 0;
   int sleep_wake_builds = 0;
-  bool stopped_early = false;             ///< a RunMonitor ended the run before the travel
+  bool stopped_early = false;
+  bool interrupted = false;              ///< ended by RunControl::interrupted (a checkpoint was taken)
+  long long resumed_from_step = -1;      ///< the step of the checkpoint it went on from (-1: none)             ///< a RunMonitor ended the run before the travel
   int list_builds = 0;                    ///< Verlet-list builds during the run
   int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)
   int threads_allowed = 1;                ///< threads it could use (DemSystem::threads_allowed)

@@ -19,6 +19,8 @@
 
 namespace grainlift::dem {
 
+struct SystemSnapshot;  // checkpoint.h
+
 /// One disk handed to DemSystem::set_bodies.
 struct Disk {
   double x = 0, y = 0;   ///< m
@@ -97,6 +99,15 @@ class DemSystem {
   /// inside it (work items wait for the items they depend on), and the second half kick of a step fused with the half kick and drift of the next
   /// (one pass over the particle arrays). The state is only observable between calls.
   void advance(long long n);
+
+  /// @brief The state between two advance() calls, for a checkpoint (system_snapshot.cc).
+  SystemSnapshot snapshot() const;
+  /// @brief Go on from @p s, a snapshot of a system set up the same way (options, intruder,
+  /// lid attached, switches): bodies, accelerations, springs, clock, intruder and lid are
+  /// restored and the lists rebuilt, so that the next advance() gives the bits the
+  /// snapshotted system would have given. Replaces prepare(). @throws ConfigError when the
+  /// snapshot does not fit this system (another number of bodies, a lid missing).
+  void restore(const SystemSnapshot& s);
 
   /// @brief Build the lists and compute the accelerations of the current state (done by the
   /// first step() otherwise; calling it first changes nothing in the results).

@@ -2,6 +2,7 @@
 // contact stress tensor, accumulated over snapshots. Reads the system, never changes it.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "grainlift/dem/dem_config.h"
@@ -9,6 +10,12 @@
 #include "grainlift/dem/dem_system.h"
 
 namespace grainlift::dem {
+
+/// The sums of a FieldAccumulator over its snapshots so far (a checkpoint keeps them).
+struct FieldSums {
+  std::int32_t snapshots = 0;
+  std::vector<double> gamma, gvx, gvy, gv2, sxx, sxy, syy;
+};
 
 class FieldAccumulator {
  public:
@@ -31,6 +38,13 @@ class FieldAccumulator {
   FieldAverages finish() const;
 
   int snapshots() const { return snapshots_; }
+
+  /// The sums so far.
+  FieldSums sums() const {
+    return {snapshots_, gamma_, gvx_, gvy_, gv2_, sxx_, sxy_, syy_};
+  }
+  /// @brief Go on from saved sums. @throws ConfigError when their grid is not this one.
+  void restore(const FieldSums& s);
 
  private:
   void add_stress(double mx, double my, double fx, double fy, double lx, double ly);

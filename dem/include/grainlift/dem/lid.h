@@ -63,6 +63,12 @@ class PressureLid {
   LidMove advance_disks(double force_x, const std::vector<double>& force_y, double dt,
                         std::vector<double>& dy);
   bool free_disks() const { return free_disks_; }
+  /// Height of each disk (free disks only).
+  const std::vector<double>& disk_y() const { return disk_y_; }
+  /// @brief Go on from a saved state (a checkpoint): @p disk_y and @p disk_velocity of the free
+  /// disks (empty otherwise). @throws ConfigError when their number does not fit.
+  void restore(const LidState& state, const std::vector<double>& disk_y,
+               const std::vector<double>& disk_velocity);
   /// m/s, velocity of each disk after the last advance_disks() (free disks only)
   const std::vector<double>& disk_velocity() const { return disk_velocity_; }
 

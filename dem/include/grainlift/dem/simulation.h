@@ -33,4 +33,28 @@ using RunMonitor = std::function<bool(const DemOutput& so_far, double fraction)>
 DemOutput run_simulation(const DemConfig& cfg, const ProgressCallback& progress,
                          const RunMonitor& monitor);
 
+struct RunCheckpoint;  // checkpoint.h
+
+/// Checkpoints and interruption of a run (every member optional).
+struct RunControl {
+  /// Go on from this checkpoint, taken by a run of the same configuration, instead of
+  /// preparing a bed: the samples, contacts, fields and forces that follow are those the
+  /// uninterrupted run gives, bit for bit (with dem.sleep_speed = 0, the default).
+  const RunCheckpoint* resume = nullptr;
+  /// Receives a checkpoint at the first event (force sample, field snapshot, progress report)
+  /// after every checkpoint_steps steps and after every checkpoint_seconds of wall time (0:
+  /// neither), and when interrupted() says so; never at the end of the run.
+  std::function<void(const RunCheckpoint&)> checkpoint;
+  long long checkpoint_steps = 0;
+  double checkpoint_seconds = 0;
+  /// Asked at every event: true ends the run there, after a checkpoint
+  /// (DemOutput::interrupted, stopped_early).
+  std::function<bool()> interrupted;
+};
+
+/// @brief The same run with checkpoints, interruption and resumption (RunControl).
+/// @throws ConfigError also when @p control.resume is of another run length or bed.
+DemOutput run_simulation(const DemConfig& cfg, const ProgressCallback& progress,
+                         const RunMonitor& monitor, const RunControl& control);
+
 }  // namespace grainlift::dem
