@@ -13,6 +13,7 @@
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/compare.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/result_file.h"
 #include "grainlift/shared/rheology_cache.h"
 #include "grainlift/shared/rheology_file.h"
@@ -63,6 +64,7 @@ struct RunArgs {
   int threads = 1;
   int replicas = 1;
   bool quiet = false;
+  std::string resume;  ///< run --resume DIR
 };
 
 void print_results(const std::vector<RunResult>& results, const std::string& out) {
@@ -94,20 +96,47 @@ void pick_continuum_law(Case& c, const std::vector<SolverEntry>& solvers, bool s
   }
 }
 
+/// After a run that a signal stopped: where its partial results are, how to go on; returns
+/// the shell's code for that signal (128 + signal).
+int report_interrupt(const RunArgs& a, const RunOptions& opt) {
+  const int sig = interrupt_signal();
+  if (!opt.writer) return 128 + sig;
+  std::string how;
+  if (std::filesystem::exists(opt.out_dir + "/dem.checkpoint")) {
+    std::string sets;
+    for (const auto& s : a.sets) sets += fmt::format(" --set '{}'", s);
+    how = fmt::format("; go on with:\n  grainlift run {}{} --solver {} --resume {}", a.case_path,
+                      sets, a.solver, opt.out_dir);
+  }
+  fmt::print(stderr, "grainlift: interrupted by signal {}: the results so far are in {}/ (marked "
+             "partial in summary.json and the .h5 metadata){}\n", sig, opt.out_dir, how);
+  return 128 + sig;
+}
+
 int cmd_run(const RunArgs& a) {
   Case c = load_case(a.case_path, a.sets);
   const auto solvers = pick_solvers(a.solver);
   pick_continuum_law(c, solvers, !a.quiet && process_rank() == 0);
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(a.case_path) : a.out;
+  if (!a.resume.empty()) {
+    if (!a.out.empty() && std::filesystem::path(a.out) != std::filesystem::path(a.resume)) {
+      throw InputError(fmt::format("--resume {} goes on in that folder: leave out --out {}",
+                                   a.resume, a.out));
+    }
+    opt.out_dir = a.resume;
+    opt.resume = true;
+  }
   opt.threads = a.threads;
   opt.replicas = a.replicas;
   // under mpirun every rank solves (the continuum is distributed), rank 0 alone reports and
   // writes the files
   opt.writer = process_rank() == 0;
   opt.progress = !a.quiet && opt.writer;
+  install_interrupt_handlers();
   const auto results = run_solvers(c, solvers, opt);
   if (opt.writer) print_results(results, opt.out_dir);
+  if (interrupt_signal()) return report_interrupt(a, opt);
   return exit_success;
 }
 
@@ -169,6 +198,7 @@ std::string safe_name(std::string s) {
 }
 
 int cmd_sweep(const RunArgs& a, const std::string& vary) {
+  install_interrupt_handlers();
   if (process_count() > 1)
     throw InputError(fmt::format(
         "sweep runs on one MPI process only (started as one of {} ranks): run it without "
@@ -216,6 +246,12 @@ int cmd_sweep(const RunArgs& a, const std::string& vary) {
                          opt.out_dir);
     }
     write_text_atomically(out + "/sweep.csv", csv);  // rewritten after each run
+    if (interrupt_signal()) {
+      fmt::print(stderr, "grainlift: sweep interrupted by signal {} at {} = {}: its results so "
+                 "far in {}/ (partial), the table in {}/sweep.csv\n", interrupt_signal(), key,
+                 values[i], opt.out_dir, out);
+      return 128 + interrupt_signal();
+    }
   }
   fmt::print("sweep table: {}/sweep.csv\n", out);
   return exit_success;
@@ -263,6 +299,10 @@ int main_with_args(int argc, char** argv) {
   RunArgs run_args;
   auto* run = app.add_subcommand("run", "run a case with one or both solvers");
   add_run_options(run, run_args);
+  run->add_option("--resume", run_args.resume,
+                  "DEM: go on from the checkpoint in this output folder (a run writes one every "
+                  "dem.checkpoint_minutes and when Ctrl-C or SIGTERM stops it); the same case "
+                  "file and --set options");
 
   std::vector<std::string> validate_files, validate_sets;
   auto* validate = app.add_subcommand("validate", "check case files without running them");

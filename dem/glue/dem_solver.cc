@@ -8,17 +8,24 @@
 #include <sched.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
 #include <cstdlib>
 #include <limits>
 #include <exception>
 #include <stdexcept>
 #include <thread>
 
+#include "grainlift/dem/checkpoint.h"
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/simulation.h"
 #include "grainlift/shared/case_geometry.h"
+#include "grainlift/shared/atomic_file.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/force_statistics.h"
 #include "grainlift/shared/replica_pool.h"
 #include "grainlift/shared/rheology_cache.h"
@@ -348,11 +355,40 @@ std::string percent(double x) {
   return std::isfinite(x) ? fmt::format("{:.1f}%", 100 * x) : std::string("?");
 }
 
+/// Where a run's checkpoint lives: <out>/dem.checkpoint.
+std::string checkpoint_path(const RunOptions& opt) { return opt.out_dir + "/dem.checkpoint"; }
+
+/// The checkpoint of @p opt.out_dir, checked to belong to case @p c. @throws InputError.
+RunCheckpoint read_checkpoint(const Case& c, const RunOptions& opt) {
+  const std::string path = checkpoint_path(opt);
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    throw InputError(fmt::format("{}: no checkpoint to resume from (a run writes one every "
+                                 "dem.checkpoint_minutes and when interrupted)", path));
+  }
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)),
+                                         std::istreambuf_iterator<char>());
+  RunCheckpoint ck;
+  try {
+    ck = decode_checkpoint(bytes);
+  } catch (const CheckpointError& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));
+  }
+  if (ck.case_tag != c.source.hash) {
+    throw InputError(fmt::format(
+        "{}: the checkpoint is of another case (hash {}; {} with these overrides is {}): resume "
+        "with the same case file and --set options", path, ck.case_tag, c.source.path, c.source.hash));
+  }
+  return ck;
+}
+
 /// One run of the case on the bed of @p cfg (its seed). @p target: the relative error that
 /// ends it (0: off); @p progress: the reporter, or nullptr for a silent replica; @p tag: the
-/// progress line's prefix of the error.
+/// progress line's prefix of the error. @p opt: checkpoints in opt->out_dir, and resume from
+/// there when opt->resume (nullptr: neither, a replica). Every run stops at the next event
+/// when the process is interrupted (interrupt.h); its result is then marked partial.
 RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressReporter* progress,
-                  const std::string& tag) {
+                  const std::string& tag, const RunOptions* opt = nullptr) {
   // The current errors on the progress line; with a target, the run ends once both are at or
   // below it.
   const RunMonitor monitor = [&](const DemOutput& so_far, double fraction) {
@@ -362,6 +398,29 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     if (progress) progress->update(fraction, "run", status);
     return target > 0 && e.drag <= target && e.lift <= target;
   };
+  RunControl control;
+  control.interrupted = [] { return interrupt_signal() != 0; };
+  std::optional<RunCheckpoint> resume;
+  const bool checkpoints = opt && opt->writer;
+  if (opt && opt->resume) {
+    resume = read_checkpoint(c, *opt);
+    control.resume = &*resume;
+    if (progress) {
+      progress->message(fmt::format("resuming from {} at step {} of {}", checkpoint_path(*opt),
+                                    resume->step, resume->planned_steps));
+    }
+  }
+  if (checkpoints) {
+    control.checkpoint_seconds = 60.0 * c.dem.checkpoint_minutes;
+    control.checkpoint_steps = c.dem.checkpoint_steps;
+    control.checkpoint = [&](const RunCheckpoint& ck) {
+      RunCheckpoint tagged = ck;
+      tagged.case_tag = c.source.hash;
+      const std::vector<unsigned char> bytes = encode_checkpoint(tagged);
+      make_directories(opt->out_dir);
+      write_text_atomically(checkpoint_path(*opt), std::string(bytes.begin(), bytes.end()));
+    };
+  }
   DemOutput out;
   try {
     out = run_simulation(
@@ -369,14 +428,30 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
         [&](double fraction, const char* phase) {
           if (progress) progress->update(fraction, phase);
         },
-        monitor);
+        monitor, control);
   } catch (const ConfigError& e) {
     throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
   } catch (const RunFailure& e) {
     throw RunError(e.what());
   }
+  if (checkpoints && !out.interrupted) {
+    std::error_code ignored;  // the run is complete: its checkpoint is of no more use
+    std::filesystem::remove(checkpoint_path(*opt), ignored);
+  }
   RunResult r = to_result(c, out);
   r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
+  if (out.resumed_from_step >= 0) {
+    r.diagnostics.counts["resumed_from_step"] = out.resumed_from_step;
+    r.meta.notes += fmt::format("; resumed from a checkpoint at step {}", out.resumed_from_step);
+  }
+  if (out.interrupted) {
+    r.meta.partial = true;
+    r.diagnostics.counts["interrupted_at_step"] = out.steps;
+    r.meta.notes += fmt::format(
+        "; PARTIAL: interrupted at step {} of {} ({:.3g} of {:g} d of travel){}", out.steps,
+        out.planned_steps, c.dem.travel * double(out.steps) / double(out.planned_steps),
+        c.dem.travel, checkpoints ? "; a checkpoint was written: grainlift run CASE --resume DIR goes on" : "");
+  }
   if (cfg.sleep_speed >= 0) {
     r.diagnostics.values["sleeping_fraction"] = out.sleeping_fraction;
     r.diagnostics.counts["sleep_wakes"] = out.sleep_wakes;
@@ -390,11 +465,11 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     diag.values["drag_relative_error"] = final_errors.drag;
     diag.values["lift_relative_error"] = final_errors.lift;
     diag.values["travel_run"] = travel;
-    diag.counts["target_error_reached"] = out.stopped_early ? 1 : 0;
+    diag.counts["target_error_reached"] = out.stopped_early && !out.interrupted ? 1 : 0;
     const std::string what = fmt::format(
         "{}relative errors drag {} lift {} (block averages corrected for correlation)", tag,
         percent(final_errors.drag), percent(final_errors.lift));
-    if (out.stopped_early) {
+    if (out.stopped_early && !out.interrupted) {
       r.meta.notes += fmt::format("; target error {} reached after {:.4g} d of travel: {}",
                                   percent(target), travel, what);
     } else {
@@ -476,8 +551,13 @@ SolverEntry solver_entry() {
   e.name = "dem";
   e.description = "discrete element method, 2D frictional disks (Kumar 2019 contact law)";
   e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
-    if (opt.replicas > 1) return run_replicas(c, opt, progress);
-    return run_one(c, make_dem_config(c, opt.threads), c.dem.target_error, &progress, "");
+    if (opt.replicas > 1) {
+      if (opt.resume) {
+        throw InputError("--resume continues a single run: --replicas > 1 writes no checkpoints");
+      }
+      return run_replicas(c, opt, progress);
+    }
+    return run_one(c, make_dem_config(c, opt.threads), c.dem.target_error, &progress, "", &opt);
   };
   return e;
 }

@@ -131,6 +131,11 @@ std::vector<KeySpec> make_keys() {
                    "with dem.sleep: grains at most this fraction of the intruder speed may sleep "
                    "and are stopped; 0: only grains exactly at rest (the same trajectories as "
                    "without sleeping, bit for bit)"));
+  k.push_back(real("dem.checkpoint_minutes", false, "10.0", 0, 1e6, false, false, "min",
+                   "wall time between checkpoints (<out>/dem.checkpoint; `grainlift run CASE "
+                   "--resume DIR` goes on from it); 0: only when interrupted"));
+  k.push_back(integer("dem.checkpoint_steps", "0", 0, 9.2e18,
+                      "also a checkpoint every this many steps (0: by time only)"));
   k.push_back(integer("dem.seed", "1", 0, 9.2e18, "random seed: packing and size distribution"));
   k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
   k.push_back(integer("dem.field_every", "500", 1, 1e9,

@@ -508,6 +508,8 @@ Case build_case(const toml::table& root) {
   dm.target_error = get_real(r, "dem.target_error");
   dm.frictionless_path = get_bool(r, "dem.frictionless_path");
   dm.sleep = get_bool(r, "dem.sleep");
+  dm.checkpoint_minutes = get_real(r, "dem.checkpoint_minutes");
+  dm.checkpoint_steps = get_int(r, "dem.checkpoint_steps");
   dm.sleep_speed = get_real(r, "dem.sleep_speed");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));

@@ -139,6 +139,7 @@ void write_body(hid_t file, const RunResult& r) {
     attr_number(g, "wall_seconds", r.meta.wall_seconds);
     attr_string(g, "created_utc", r.meta.created_utc);
     attr_string(g, "notes", r.meta.notes);
+    attr_number(g, "partial", static_cast<long long>(r.meta.partial ? 1 : 0));
   }
   {
     Handle g = make_group(file, "case");
@@ -376,6 +377,7 @@ RunResult read_body(hid_t file) {
     r.meta.wall_seconds = read_attr_double(g, "wall_seconds");
     r.meta.created_utc = read_attr_string(g, "created_utc");
     r.meta.notes = read_attr_string(g, "notes");
+    r.meta.partial = has_attr(g, "partial") && read_attr_int(g, "partial") != 0;
   }
   {
     Handle g(H5Gopen2(file, "case", H5P_DEFAULT), H5Gclose);

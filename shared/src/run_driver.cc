@@ -11,6 +11,7 @@
 #include "grainlift/shared/compare.h"
 #include "grainlift/shared/derived_quantities.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/json_writer.h"
 #include "grainlift/shared/result_file.h"
 
@@ -73,6 +74,7 @@ JsonObject summary_object(const RunResult& r) {
   o.add("wall_seconds", r.meta.wall_seconds);
   o.add("threads", r.meta.threads);
   o.add("case_hash", r.meta.case_hash);
+  if (r.meta.partial) o.add("partial", true);
   if (!r.meta.notes.empty()) o.add("notes", r.meta.notes);
   return o;
 }
@@ -140,6 +142,7 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
     }
     progress.finish();
     results.push_back(std::move(r));
+    if (interrupt_signal()) break;  // the next solvers do not start
   }
   if (options.writer) write_summary(options.out_dir, c.source.hash);
   return results;

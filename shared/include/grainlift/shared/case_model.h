@@ -68,6 +68,8 @@ struct DemSection {
   int field_every{};
   bool frictionless_path{};  ///< grains.friction = 0: normal forces only
   bool sleep{};              ///< sleeping grains
+  double checkpoint_minutes{};  ///< wall time between checkpoints (0: only when interrupted)
+  long long checkpoint_steps{};  ///< steps between checkpoints (0: by time only)
   double sleep_speed{};      ///< fraction of |V0| below which a grain may sleep
   double relax_ke{};       ///< J per grain
   std::string packing_cache;

@@ -22,6 +22,8 @@ struct RunOptions {
   bool progress = true;
   /// false on the MPI ranks other than 0 of a distributed run: they solve but write nothing
   bool writer = true;
+  /// go on from the checkpoint in out_dir (DEM: <out_dir>/dem.checkpoint)
+  bool resume = false;
 };
 
 /// A solver that can be asked for by name on the command line.

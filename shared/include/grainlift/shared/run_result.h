@@ -24,6 +24,9 @@ struct RunMetadata {
   std::string case_hash;         ///< FNV-1a 64 of case_text + "\n--\n" + case_overrides, hex
   std::string case_path;
   std::string notes;             ///< free text: convergence, packing cache, warnings
+  /// the run was interrupted (Ctrl-C, SIGTERM) and holds what it had so far: complete
+  /// files, shorter series; `grainlift run CASE --resume DIR` goes on (DEM)
+  bool partial = false;
 };
 
 /// Geometry shared by both solvers (SI units, lab frame at t = 0).
