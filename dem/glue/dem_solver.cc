@@ -440,6 +440,7 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
   }
   RunResult r = to_result(c, out);
   r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
+  r.diagnostics.values["bed_max_overlap"] = out.bed_max_overlap;
   if (out.resumed_from_step >= 0) {
     r.diagnostics.counts["resumed_from_step"] = out.resumed_from_step;
     r.meta.notes += fmt::format("; resumed from a checkpoint at step {}", out.resumed_from_step);

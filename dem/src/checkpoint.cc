@@ -232,6 +232,7 @@ void put_output(Writer& w, const DemOutput& o) {
   }
   w.put(o.far_field_exclusion);
   w.put(o.far_field_half_height);
+  w.put(o.bed_max_overlap);
 }
 
 DemOutput get_output(Reader& r) {
@@ -268,6 +269,7 @@ DemOutput get_output(Reader& r) {
   }
   o.far_field_exclusion = r.get<double>();
   o.far_field_half_height = r.get<double>();
+  o.bed_max_overlap = r.get<double>();
   return o;
 }
 

@@ -158,6 +158,20 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   } else {
     s.prepare();
     const double ov0 = s.current_max_overlap_fraction();
+    out.bed_max_overlap = ov0;
+    // Without gravity a bed at rest overlaps only if it is compressed beyond jamming (for these
+    // disks the overlap at rest is ~1e-4 d up to Phi ~0.84, then 1.6% at 0.86, 4.2% at 0.88,
+    // 6.2% at 0.9: docs/stability.md). Above half the allowed overlap, the intruder's load
+    // would stop the run on an overlap within a few thousand steps: refuse it now.
+    const bool weightless = c.gravity[0] == 0.0 && c.gravity[1] == 0.0;
+    if (weightless && ov0 > 0.5 * c.max_overlap_fraction) {
+      refuse("the prepared bed (area fraction " + str(out.achieved_area_fraction) +
+             ") is compressed beyond jamming: at rest it already overlaps by " + str(ov0) +
+             " of a grain diameter, more than half of max_overlap_fraction = " +
+             str(c.max_overlap_fraction) + ", which leaves no room for the intruder's load; "
+             "lower grains.area_fraction (these disks jam near 0.84; 0.88 still runs, 0.9 does "
+             "not)");
+    }
     if (ov0 > c.max_overlap_fraction) {
       refuse("the prepared bed already overlaps by " + str(ov0) +
              " of a grain diameter at rest, above max_overlap_fraction = " +

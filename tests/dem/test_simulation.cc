@@ -347,6 +347,32 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 
+// Physics: without gravity a bed at rest overlaps only when it is compressed beyond jamming
+// (these disks jam near Phi 0.84). At Phi 0.9 the prepared bed overlaps by ~6% of a diameter at
+// rest, more than half of max_overlap_fraction (0.1): the run is refused before its first step
+// (ConfigError naming jamming, the overlap and the limit), where it used to fail on an overlap
+// a few thousand steps in. Phi 0.86, jammed but with headroom, still runs.
+TEST(Simulation, BedBeyondJammingIsRefusedBeforeTheRun) {
+  auto c = small_case(30, 20, 0.9);
+  c.seed = 3;
+  c.travel = 0.2;
+  c.steady_travel = 0.05;
+  c.packing_cache_dir = temp_cache_dir("jam");
+  try {
+    gd::run_simulation(c);
+    ADD_FAILURE() << "a bed at Phi 0.9 without gravity ran";
+  } catch (const gd::ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("beyond jamming"), std::string::npos) << m;
+    EXPECT_NE(m.find("max_overlap_fraction = 0.1"), std::string::npos) << m;
+  }
+  c.area_fraction = 0.86;
+  const auto out = gd::run_simulation(c);
+  EXPECT_GT(out.bed_max_overlap, 1e-3);  // jammed: it overlaps at rest
+  EXPECT_LT(out.bed_max_overlap, 0.05);
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
 // Physics: coarse graining only reads the state, so turning the fields on leaves the forces
 // bit-identical (exact equality). The fields themselves are sane: no grain inside the intruder
 // (area fraction 0 within 0.9 R), the far field near the bed's Phi (within 0.15), and the

@@ -67,6 +67,7 @@ struct DemOutput {
   long long sleep_wakes = 0;
   int sleep_wake_builds = 0;
   bool stopped_early = false;
+  double bed_max_overlap = 0;  ///< largest overlap / smaller diameter of the prepared bed at rest
   bool interrupted = false;              ///< ended by RunControl::interrupted (a checkpoint was taken)
   long long resumed_from_step = -1;      ///< the step of the checkpoint it went on from (-1: none)             ///< a RunMonitor ended the run before the travel
   int list_builds = 0;                    ///< Verlet-list builds during the run
