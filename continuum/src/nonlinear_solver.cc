@@ -130,5 +130,13 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
        << " nonlinear iterations: |R|/|R0| = " << r / r_ref;
     report_.message = os.str();
   }
+  if (!report_.converged) {
+    // the residual history (the last 12 steps) says how it failed: stalled, oscillating, growing
+    std::ostringstream os;
+    const auto& h = report_.residual_history;
+    os << "; residual history |R|/|R0|" << (h.size() > 12 ? " (last 12)" : "") << ":";
+    for (std::size_t k = h.size() > 12 ? h.size() - 12 : 0; k < h.size(); ++k) os << " " << h[k];
+    report_.message += os.str();
+  }
 }
 }  // namespace grainlift::continuum::internal

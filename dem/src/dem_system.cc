@@ -257,6 +257,52 @@ void DemSystem::prepare() {
   primed_ = true;
 }
 
+DemSystem::WorstOverlap DemSystem::worst_overlap() const {
+  WorstOverlap w;
+  for (int i = 0; i < n_grains_; ++i) {
+    for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
+      const int j = nl_.partner[k];
+      double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
+      opt_.box.min_image(dx, dy);
+      const double f = (p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy)) /
+                       (2.0 * std::min(p_.r[i], p_.r[j]));
+      if (f > w.fraction) w = {i, j, f};
+    }
+  }
+  if (intruder_.present) {
+    for (int g : ic_.grain) {
+      double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
+      opt_.box.min_image(dx, dy);
+      const double f = (p_.r[g] + intruder_.r - std::sqrt(dx * dx + dy * dy)) / (2.0 * p_.r[g]);
+      if (f > w.fraction) w = {g, -1, f};
+    }
+  }
+  return w;
+}
+
+int DemSystem::first_non_finite_grain() const {
+  for (int i = 0; i < n_grains_; ++i) {
+    if (!std::isfinite(p_.x[i]) || !std::isfinite(p_.y[i]) || !std::isfinite(p_.vx[i]) ||
+        !std::isfinite(p_.vy[i]) || !std::isfinite(p_.w[i])) {
+      return i;
+    }
+  }
+  return -1;
+}
+
+int DemSystem::fastest_grain() const {
+  int best = -1;
+  double top = -1;
+  for (int i = 0; i < n_grains_; ++i) {
+    const double v = std::hypot(p_.vx[i], p_.vy[i]) + std::fabs(p_.w[i]) * p_.r[i];
+    if (v > top) {
+      top = v;
+      best = i;
+    }
+  }
+  return best;
+}
+
 double DemSystem::current_max_overlap_fraction() const {
   double worst = 0;
   for_each_gap([&](double delta, double ri, double rj, bool intruder) {

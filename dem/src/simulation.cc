@@ -27,6 +27,14 @@ constexpr double kPi = 3.14159265358979323846;
 
 using detail::str;
 
+/// " at (x, y) m, v (vx, vy) m/s" of grain g, for failure messages.
+std::string describe_grain(const DemSystem& s, int g) {
+  if (g < 0) return "";
+  const ParticleArrays& p = s.particles();
+  return " at (" + str(p.x[g]) + ", " + str(p.y[g]) + ") m, v (" + str(p.vx[g]) + ", " +
+         str(p.vy[g]) + ") m/s";
+}
+
 double impact_speed(const DemConfig& c) {
   if (c.dt_check_velocity > 0) return c.dt_check_velocity;
   return std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]) +
@@ -127,7 +135,12 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     system = std::make_unique<DemSystem>(system_options(c));
     system->set_bodies(resume->system.grains, resume->system.frozen);
   } else {
-    const PackedBed bed = prepare_packing(c, progress);
+    // the bed is prepared at a step no larger than 0.1 of the collision time, whatever dt the
+    // run tests (max_dt_fraction may allow more: stability studies); the same bed, and cache
+    // entry, as before for every dt within the default limit
+    DemConfig packing = c;
+    packing.dt = std::min(c.dt, 0.1 * out.collision_time);
+    const PackedBed bed = prepare_packing(packing, progress);
     out.packing_from_cache = bed.from_cache;
     out.achieved_area_fraction = bed.area_fraction;
     system = system_on_bed(c, bed);
@@ -187,6 +200,16 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   const long long n_steps = static_cast<long long>(std::ceil(c.travel * d / (speed * c.dt) - 1e-9));
   const double steady_time = c.steady_travel * d / speed;
   const long long progress_every = std::max(1LL, n_steps / 100);
+  // energy growth (a numerical instability): the grains' kinetic energy above that of all of
+  // them moving at 3x the fastest speed the scene imposes (the intruder's surface, free fall
+  // over the box height), plus all the work a lid could do in closing the box
+  double grain_mass = 0;
+  for (int i = 0; i < s.grains(); ++i) grain_mass += s.particles().mass[i];
+  const double speed_scale =
+      std::max(speed + std::abs(c.intruder_omega) * 0.5 * c.intruder_diameter,
+               std::sqrt(2.0 * std::hypot(c.gravity[0], c.gravity[1]) * (c.ymax - c.ymin)));
+  const double energy_limit = 0.5 * grain_mass * 9.0 * speed_scale * speed_scale +
+                              c.lid_pressure * (c.xmax - c.xmin) * (c.ymax - c.ymin);
   const bool report = progress || monitor;
   out.samples.reserve(static_cast<std::size_t>(n_steps / c.sample_every + 1));
   FieldAccumulator fields(c.fields);
@@ -239,18 +262,34 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
       smp.torque = s.intruder_torque();
       smp.contacts = s.intruder_touching();
       const double ke = s.kinetic_energy();
+      const std::string when = "step " + str(k) + " (t = " + str(t) + " s): ";
       if (!std::isfinite(smp.fx) || !std::isfinite(smp.fy) || !std::isfinite(smp.torque) ||
           !std::isfinite(ke)) {
-        throw RunFailure("step " + str(k) + " (t = " + str(t) + " s): non-finite state (intruder force (" +
-                         str(smp.fx) + ", " + str(smp.fy) + ") N, kinetic energy " + str(ke) +
-                         " J); dt = " + str(c.dt) + " s may be too large");
+        const int g = s.first_non_finite_grain();
+        throw RunFailure(when + "NaN: non-finite state (intruder force (" + str(smp.fx) + ", " +
+                         str(smp.fy) + ") N, kinetic energy " + str(ke) + " J" +
+                         (g >= 0 ? ", first at grain " + str(g) + describe_grain(s, g) : "") +
+                         "); dt = " + str(c.dt) + " s may be too large");
+      }
+      if (ke > energy_limit) {
+        const int g = s.fastest_grain();
+        throw RunFailure(when + "energy growth: the grains' kinetic energy " + str(ke) +
+                         " J exceeds " + str(energy_limit) + " J (all of them at 3x the fastest "
+                         "speed the scene imposes, " + str(speed_scale) + " m/s, plus the lid's "
+                         "work over the box); fastest grain " +
+                         str(g) + describe_grain(s, g) + "; reduce dt (" + str(c.dt) + " s)");
       }
       const double ov = s.take_max_overlap_fraction();
       if (ov > c.max_overlap_fraction) {
-        throw RunFailure("step " + str(k) + " (t = " + str(t) + " s): an overlap reached " +
-                         str(ov) + " of a grain diameter, above max_overlap_fraction = " +
-                         str(c.max_overlap_fraction) + "; reduce dt (" + str(c.dt) +
-                         " s) or the intruder speed (" + str(speed) +
+        const DemSystem::WorstOverlap w = s.worst_overlap();
+        const std::string partner = w.j < 0 ? std::string("the intruder")
+                                    : w.j >= s.grains() ? "wall disk " + str(w.j - s.grains())
+                                                        : "grain " + str(w.j);
+        throw RunFailure(when + "overlap: an overlap reached " + str(ov) +
+                         " of a grain diameter, above max_overlap_fraction = " +
+                         str(c.max_overlap_fraction) + " (now the largest: grain " + str(w.i) +
+                         describe_grain(s, w.i) + " and " + partner + ", " + str(w.fraction) +
+                         "); reduce dt (" + str(c.dt) + " s) or the intruder speed (" + str(speed) +
                          " m/s), or stiffen the contact law");
       }
       const std::size_t index = out.samples.size();

@@ -188,6 +188,18 @@ class DemSystem {
   int intruder_touching() const { return intruder_touching_; }
   /// @brief Largest overlap / smaller diameter seen since the last call (then reset).
   double take_max_overlap_fraction();
+  /// The pair with the largest overlap now: grain i, partner j (a grain, a frozen disk >=
+  /// grains(), or -1 for the intruder), overlap / smaller diameter (the intruder: / the grain's).
+  struct WorstOverlap {
+    int i = -1, j = -1;
+    double fraction = 0;
+  };
+  /// @brief The largest overlap of the current positions (lists built: after prepare()).
+  WorstOverlap worst_overlap() const;
+  /// @brief The first grain (index order) with a non-finite position or velocity, -1 if none.
+  int first_non_finite_grain() const;
+  /// @brief The fastest grain (largest |v| + |omega| r), -1 without grains.
+  int fastest_grain() const;
   /// @brief Translational + rotational kinetic energy of the grains (J), summed in index order.
   double kinetic_energy() const;
   /// @brief Elastic energy of the normal springs, sum of (2/5) A_n delta^2 (J); tangential
