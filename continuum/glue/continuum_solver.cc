@@ -12,6 +12,7 @@
 
 #include "grainlift/continuum/errors.h"
 #include "grainlift/continuum/solver.h"
+#include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/force_statistics.h"
@@ -263,7 +264,24 @@ SolverEntry solver_entry() {
   e.name = "fem";
   e.description = "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
   e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
-    const ContinuumConfig cfg = make_continuum_config(c, opt.out_dir);
+    ContinuumConfig cfg = make_continuum_config(c, opt.out_dir);
+    // Ctrl-C / SIGTERM (interrupt.h): no further refinement; the last converged mesh is the
+    // result, marked partial
+    cfg.stop_refining = [] { return interrupt_signal() != 0; };
+    // each converged mesh is written (partial) before it is refined: a killed study keeps it
+    if (opt.save_partial && (cfg.nested || cfg.adaptive_cycles > 0)) {
+      cfg.level_converged = [&](const ContinuumOutput& level) {
+        RunResult r = to_result(c, cfg, level, std::nullopt);
+        r.meta.partial = true;
+        r.meta.notes += fmt::format(
+            "; PARTIAL: the converged mesh of {} cells before refining it further (refinement "
+            "{} asked for{}); the run that wrote it did not finish",
+            level.cells, cfg.refinement,
+            cfg.adaptive_cycles > 0 ? fmt::format(", then {} adaptive cycles", cfg.adaptive_cycles)
+                                    : std::string());
+        opt.save_partial(std::move(r));
+      };
+    }
     if (!c.pressure_matched())
       progress.message(fmt::format(
           "warning: P0 = {:g} Pa includes continuum.ambient_pressure = {:g} Pa, which the "
@@ -297,7 +315,7 @@ SolverEntry solver_entry() {
         }
       }
       out = solve_flow(cfg, [&](const std::string& line) { progress.message(line); });
-      if (estimate && cfg.nested && out.levels.size() >= 2) {
+      if (estimate && cfg.nested && !out.interrupted && out.levels.size() >= 2) {
         // the nested level below the requested one was solved on the way
         const LevelResult& lv = out.levels[out.levels.size() - 2];
         const DragLift dl =
@@ -311,7 +329,17 @@ SolverEntry solver_entry() {
     }
     if (!out.converged)
       throw RunError(fmt::format("the continuum solve did not converge: {}", out.message));
-    return to_result(c, cfg, out, coarser);
+    RunResult r = to_result(c, cfg, out, coarser);
+    if (out.interrupted) {
+      const int reached = out.levels.empty() ? 0 : out.levels.back().refinement;
+      r.meta.partial = true;
+      r.meta.notes += fmt::format(
+          "; PARTIAL: interrupted by a signal; the result is the last converged mesh, "
+          "refinement {} of the {} asked for", reached, cfg.refinement);
+      progress.message(fmt::format("interrupted: writing the converged refinement {} (of {})",
+                                   reached, cfg.refinement));
+    }
+    return r;
   };
   return e;
 }

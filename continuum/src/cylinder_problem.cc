@@ -50,13 +50,26 @@ ContinuumOutput CylinderProblem::run() {
   fail_here_if_requested("before the nonlinear solve");  // test hook (fault_injection.h)
   solve_with_continuation();
   if (nested) record_level(0, level_start);
+  // before each refinement: a signal stops the study on the converged mesh
+  // (ContinuumConfig::stop_refining); otherwise that mesh's result is handed out first, so a
+  // study killed during the next level keeps it (ContinuumConfig::level_converged)
+  auto stop = [&] {
+    const bool s = config_.stop_refining && config_.stop_refining();
+    if (s)
+      out_.interrupted = true;
+    else
+      hand_out_converged_level();
+    return s;
+  };
   for (int level = 1; nested && level <= config_.refinement && problem_->report().converged;
        ++level) {
+    if (stop()) break;
     level_start = std::chrono::steady_clock::now();
     solve_next_level(level);
     record_level(level, level_start);
   }
   for (int cycle = 0; cycle < config_.adaptive_cycles && problem_->report().converged; ++cycle) {
+    if (stop()) break;
     refine_mesh(cycle);
     schedule_after_refinement();
     solve_with_continuation();
@@ -76,6 +89,18 @@ ContinuumOutput CylinderProblem::run() {
   sample_fields();
   output_results();
   return out_;
+}
+
+/// The converged state of the mesh about to be refined, post-processed as at the end of run()
+/// (forces, surface stresses, fields), to ContinuumConfig::level_converged.
+void CylinderProblem::hand_out_converged_level() {
+  if (!config_.level_converged) return;
+  if (linearised_ && !corrected_) correct_for_gravity();
+  out_.continuation_splits = splits_;
+  report_convergence();
+  compute_boundary_outputs();
+  sample_fields();
+  config_.level_converged(out_);
 }
 
 void CylinderProblem::say(const std::string& s) const {

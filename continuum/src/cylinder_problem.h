@@ -63,6 +63,7 @@ class CylinderProblem {
   std::vector<double> boundary_outputs(const FlowProblem& fp) const;
   void sample_fields();
   void output_results() const;
+  void hand_out_converged_level();
   /// The problem whose state is post-processed: the gravity-corrected one when there is one.
   const FlowProblem& post() const { return corrected_ ? *corrected_ : *problem_; }
   void say(const std::string& s) const;

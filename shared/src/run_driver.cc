@@ -106,6 +106,31 @@ void write_summary(const std::string& out_dir, const std::string& case_hash) {
   write_text_atomically(out_dir + "/summary.json", root.str(2) + "\n");
 }
 
+namespace {
+/// The driver's part of a result: who made it, when, from which case.
+void stamp(RunResult& r, const Case& c, const std::string& solver, const RunOptions& options,
+           std::chrono::steady_clock::time_point started) {
+  r.meta.solver = solver;
+  r.meta.grainlift_version = grainlift_version();
+  r.meta.git_revision = grainlift_git_revision();
+  r.meta.threads = options.threads;
+  r.meta.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  r.meta.created_utc = utc_now();
+  r.meta.case_text = c.source.text;
+  std::string overrides;
+  for (const auto& o : c.source.overrides) overrides += o + "\n";
+  r.meta.case_overrides = overrides;
+  r.meta.case_hash = c.source.hash;
+  r.meta.case_path = c.source.path;
+}
+
+void write_solver_files(const std::string& out_dir, const std::string& solver, const RunResult& r) {
+  write_result(out_dir + "/" + solver + ".h5", r);
+  write_fields_xdmf(out_dir + "/" + solver + "_fields.xmf", solver + ".h5", r);
+}
+}  // namespace
+
 std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
                                    const RunOptions& options) {
   if (options.writer) make_directories(options.out_dir);
@@ -113,33 +138,26 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
   for (const auto& solver : solvers) {
     ProgressReporter progress(solver.name, options.progress);
     const auto t0 = std::chrono::steady_clock::now();
+    RunOptions solver_options = options;
+    if (options.writer) {
+      solver_options.save_partial = [&](RunResult partial) {
+        stamp(partial, c, solver.name, options, t0);
+        partial.meta.partial = true;
+        write_solver_files(options.out_dir, solver.name, partial);
+        write_summary(options.out_dir, c.source.hash);
+      };
+    }
     RunResult r;
     try {
-      r = solver.run(c, options, progress);
+      r = solver.run(c, solver_options, progress);
     } catch (...) {
       // The solvers that finished keep their files; the summary lists them before the
       // failure propagates (exit code 1 or 2).
       if (!results.empty() && options.writer) write_summary(options.out_dir, c.source.hash);
       throw;
     }
-    r.meta.solver = solver.name;
-    r.meta.grainlift_version = grainlift_version();
-    r.meta.git_revision = grainlift_git_revision();
-    r.meta.threads = options.threads;
-    r.meta.wall_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.meta.created_utc = utc_now();
-    r.meta.case_text = c.source.text;
-    std::string overrides;
-    for (const auto& o : c.source.overrides) overrides += o + "\n";
-    r.meta.case_overrides = overrides;
-    r.meta.case_hash = c.source.hash;
-    r.meta.case_path = c.source.path;
-    if (options.writer) {
-      const std::string h5 = options.out_dir + "/" + solver.name + ".h5";
-      write_result(h5, r);
-      write_fields_xdmf(options.out_dir + "/" + solver.name + "_fields.xmf", solver.name + ".h5", r);
-    }
+    stamp(r, c, solver.name, options, t0);
+    if (options.writer) write_solver_files(options.out_dir, solver.name, r);
     progress.finish();
     results.push_back(std::move(r));
     if (interrupt_signal()) break;  // the next solvers do not start

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,8 @@ struct FieldGridSpec {
   double x0 = 0, y0 = 0, spacing = 0;
   int nx = 0, ny = 0;
 };
+
+struct ContinuumOutput;
 
 struct ContinuumConfig {
   // ---- geometry (intruder frame: intruder centred at the origin)
@@ -99,6 +102,16 @@ struct ContinuumConfig {
   std::vector<double> surface_theta;
   FieldGridSpec fields;
   std::string vtu_directory;            ///< "" = no VTU output
+  // ---- control
+  /// Asked before every refinement (nested levels, adaptive cycles): true stops refining; the
+  /// run ends on the last mesh solved, its converged state post-processed as usual
+  /// (ContinuumOutput::interrupted). Empty: never asked.
+  std::function<bool()> stop_refining;
+  /// Called before every refinement (nested levels, adaptive cycles) with the converged state
+  /// of the mesh about to be refined, post-processed as a final result would be (forces,
+  /// surface stresses, fields; not the VTU): a study killed during the next level keeps what
+  /// it had. Empty: not called (no post-processing of the intermediate meshes).
+  std::function<void(const ContinuumOutput&)> level_converged;
 };
 
 /// One level of the nested iteration (ContinuumConfig::nested): its mesh, forces and work.
@@ -139,6 +152,7 @@ struct ContinuumOutput {
   /// stages and the stages of each adaptive cycle) of each entry of residual_history
   std::vector<int> residual_stage;
   std::string message;                    ///< why it failed when !converged
+  bool interrupted = false;               ///< stop_refining() ended it before the requested mesh
   /// nested iteration: every level solved, coarsest first (the last is the requested one,
   /// before any adaptive cycle); empty without nesting
   std::vector<LevelResult> levels;

@@ -24,6 +24,10 @@ struct RunOptions {
   bool writer = true;
   /// go on from the checkpoint in out_dir (DEM: <out_dir>/dem.checkpoint)
   bool resume = false;
+  /// Set by run_solvers for each solver (empty when nothing is written): writes an
+  /// intermediate result as <out_dir>/<solver>.h5, marked partial, metadata filled in, so a
+  /// run killed later keeps it (the continuum: each converged mesh before it is refined).
+  std::function<void(RunResult)> save_partial;
 };
 
 /// A solver that can be asked for by name on the command line.
