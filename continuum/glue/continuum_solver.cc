@@ -268,9 +268,11 @@ SolverEntry solver_entry() {
     // Ctrl-C / SIGTERM (interrupt.h): no further refinement; the last converged mesh is the
     // result, marked partial
     cfg.stop_refining = [] { return interrupt_signal() != 0; };
-    // each converged mesh is written (partial) before it is refined: a killed study keeps it
-    if (opt.save_partial && (cfg.nested || cfg.adaptive_cycles > 0)) {
+    // each converged mesh is written (partial) before it is refined: a killed study keeps it.
+    // Every MPI rank post-processes the level (collective), the writer alone writes it.
+    if (cfg.nested || cfg.adaptive_cycles > 0) {
       cfg.level_converged = [&](const ContinuumOutput& level) {
+        if (!opt.save_partial) return;
         RunResult r = to_result(c, cfg, level, std::nullopt);
         r.meta.partial = true;
         r.meta.notes += fmt::format(

@@ -3,6 +3,7 @@
 // Conventions: docs/continuum-model.md (theta from V, counter-clockwise).
 #include "cylinder_problem.h"
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/distributed/grid_refinement.h>
 #include <deal.II/distributed/solution_transfer.h>
@@ -54,7 +55,10 @@ ContinuumOutput CylinderProblem::run() {
   // (ContinuumConfig::stop_refining); otherwise that mesh's result is handed out first, so a
   // study killed during the next level keeps it (ContinuumConfig::level_converged)
   auto stop = [&] {
-    const bool s = config_.stop_refining && config_.stop_refining();
+    // one decision for all ranks (a signal may reach them at different times)
+    const bool s = config_.stop_refining &&
+                   Utilities::MPI::logical_or(config_.stop_refining(),
+                                              mesh_->tria().get_communicator());
     if (s)
       out_.interrupted = true;
     else
