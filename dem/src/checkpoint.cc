@@ -252,6 +252,14 @@ DemOutput get_output(Reader& r) {
     }
   }
   o.steady_start_index = static_cast<std::size_t>(r.get<std::uint64_t>());
+  // a sample index, or "not yet" (all bits set) before the steady state began; the glue
+  // counts the averaged samples as samples.size() - steady_start_index
+  if (o.steady_start_index > o.samples.size() &&
+      o.steady_start_index != static_cast<std::size_t>(-1)) {
+    throw CheckpointError("corrupt checkpoint: steady state starts at sample " +
+                          std::to_string(o.steady_start_index) + " of " +
+                          std::to_string(o.samples.size()));
+  }
   o.grains = r.get<std::int32_t>();
   o.wall_grains = r.get<std::int32_t>();
   o.achieved_area_fraction = r.get<double>();

@@ -68,10 +68,12 @@ Handle make_group(hid_t parent, const char* name) {
   return g;
 }
 
-Handle string_type(std::size_t size) {
+/// A fixed-length string type of @p size bytes; grainlift writes UTF-8, a reader converts a
+/// file's ASCII strings only to an ASCII memory type (HDF5 converts within one character set).
+Handle string_type(std::size_t size, H5T_cset_t cset = H5T_CSET_UTF8) {
   Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
   check(H5Tset_size(t, size == 0 ? 1 : size), "H5Tset_size");
-  check(H5Tset_cset(t, H5T_CSET_UTF8), "H5Tset_cset");
+  check(H5Tset_cset(t, cset), "H5Tset_cset");
   check(H5Tset_strpad(t, H5T_STR_NULLPAD), "H5Tset_strpad");
   return t;
 }
@@ -268,54 +270,137 @@ void write_body(hid_t file, const RunResult& r) {
 }
 
 // ---- reading ---------------------------------------------------------------------------------
+// Every read checks what the file declares before it allocates or reads: a file is refused
+// (InputError, naming the object and what is accepted) rather than read past a buffer or
+// allocated for data it does not hold.
+
+/// The most values a dataset may declare: 2^27 doubles (1 GiB), far above any run's series.
+constexpr hssize_t max_dataset_values = hssize_t(1) << 27;
+/// The longest string an attribute or dataset may declare (a case file's text is a few kB).
+constexpr std::size_t max_string_bytes = std::size_t(1) << 24;
+
 bool exists(hid_t parent, const char* name) { return H5Lexists(parent, name, H5P_DEFAULT) > 0; }
 bool has_attr(hid_t obj, const char* name) { return H5Aexists(obj, name) > 0; }
 
+/// Where @p obj is in the file ("/metadata"), for messages.
+std::string name_of(hid_t obj) {
+  const ssize_t n = H5Iget_name(obj, nullptr, 0);
+  if (n <= 0) return "?";
+  std::string s(static_cast<std::size_t>(n), '\0');
+  H5Iget_name(obj, s.data(), s.size() + 1);
+  return s;
+}
+
+/// Refuses an attribute or dataset that is not a single value of the expected kind: a
+/// fixed-length string (@p text) or an integer or floating-point number.
+void require_single(hid_t type, hid_t space, bool text, const std::string& what) {
+  const H5T_class_t cls = H5Tget_class(type);
+  const bool kind_ok = text ? cls == H5T_STRING && H5Tis_variable_str(type) == 0
+                            : cls == H5T_INTEGER || cls == H5T_FLOAT;
+  const char* accepted = text ? "one fixed-length string" : "one integer or floating-point number";
+  if (!kind_ok) throw InputError(fmt::format("{} has another type (accepted: {})", what, accepted));
+  const hssize_t n = H5Sget_simple_extent_type(space) == H5S_NULL
+                         ? 0
+                         : H5Sget_simple_extent_npoints(space);
+  if (n != 1)
+    throw InputError(fmt::format("{} holds {} values (accepted: {})", what, n, accepted));
+  if (text && H5Tget_size(type) > max_string_bytes)
+    throw InputError(fmt::format("{} declares a string of {} bytes (accepted: at most {})", what,
+                                 H5Tget_size(type), max_string_bytes));
+}
+
+Handle open_attr(hid_t obj, const char* name) {
+  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  if (!a.valid()) throw InputError(fmt::format("missing attribute {} of {}", name, name_of(obj)));
+  return a;
+}
+
 std::string read_attr_string(hid_t obj, const char* name) {
   if (!has_attr(obj, name)) return {};
-  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  Handle a = open_attr(obj, name);
   Handle type(H5Aget_type(a), H5Tclose);
+  Handle space(H5Aget_space(a), H5Sclose);
+  require_single(type, space, true, fmt::format("attribute {} of {}", name, name_of(obj)));
   const std::size_t n = H5Tget_size(type);
   std::string s(n, '\0');
-  Handle mem = string_type(n);
+  Handle mem = string_type(n, H5Tget_cset(type));
   check(H5Aread(a, mem, s.data()), "H5Aread");
   s.resize(std::strlen(s.c_str()));
   return s;
 }
-double read_attr_double(hid_t obj, const char* name) {
-  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
-  if (!a.valid()) throw InputError(fmt::format("missing attribute {}", name));
-  double v = 0;
-  check(H5Aread(a, H5T_NATIVE_DOUBLE, &v), "H5Aread");
+template <typename T>
+T read_attr_number(hid_t obj, const char* name, hid_t mem_type) {
+  Handle a = open_attr(obj, name);
+  Handle type(H5Aget_type(a), H5Tclose);
+  Handle space(H5Aget_space(a), H5Sclose);
+  require_single(type, space, false, fmt::format("attribute {} of {}", name, name_of(obj)));
+  T v = 0;
+  check(H5Aread(a, mem_type, &v), "H5Aread");
   return v;
 }
+double read_attr_double(hid_t obj, const char* name) {
+  return read_attr_number<double>(obj, name, H5T_NATIVE_DOUBLE);
+}
 long long read_attr_int(hid_t obj, const char* name) {
-  Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
-  if (!a.valid()) throw InputError(fmt::format("missing attribute {}", name));
-  long long v = 0;
-  check(H5Aread(a, H5T_NATIVE_LLONG, &v), "H5Aread");
-  return v;
+  return read_attr_number<long long>(obj, name, H5T_NATIVE_LLONG);
 }
 std::optional<double> read_attr_optional(hid_t obj, const char* name) {
   if (!has_attr(obj, name)) return std::nullopt;
   return read_attr_double(obj, name);
 }
+
+Handle open_dataset(hid_t parent, const char* name) {
+  Handle d(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose);
+  if (!d.valid())
+    throw InputError(fmt::format("missing dataset {} in {}", name, name_of(parent)));
+  return d;
+}
+
+/// Refuses a dataset that declares more bytes than it stores (nothing written, or a size
+/// edited): the reader would allocate for data the file does not hold. Compressed datasets
+/// store less by design and are left to the limits on their declared size.
+void require_stored(hid_t d, hssize_t values, std::size_t value_bytes, const std::string& what) {
+  Handle dcpl(H5Dget_create_plist(d), H5Pclose);
+  if (!dcpl.valid() || H5Pget_nfilters(dcpl) != 0) return;
+  const hsize_t stored = H5Dget_storage_size(d);
+  const hsize_t declared = hsize_t(values) * value_bytes;
+  if (stored < declared)
+    throw InputError(fmt::format("{} declares {} values ({} bytes) but stores {} bytes", what,
+                                 values, declared, stored));
+}
+
 std::string read_dataset_string(hid_t parent, const char* name) {
   if (!exists(parent, name)) return {};
-  Handle d(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose);
+  Handle d = open_dataset(parent, name);
   Handle type(H5Dget_type(d), H5Tclose);
+  Handle space(H5Dget_space(d), H5Sclose);
+  const std::string what = fmt::format("dataset {}", name_of(d));
+  require_single(type, space, true, what);
   const std::size_t n = H5Tget_size(type);
+  require_stored(d, 1, n, what);
   std::string s(n, '\0');
-  Handle mem = string_type(n);
+  Handle mem = string_type(n, H5Tget_cset(type));
   check(H5Dread(d, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()), "H5Dread");
   s.resize(std::strlen(s.c_str()));
   return s;
 }
 std::vector<double> read_doubles(hid_t parent, const char* name) {
-  Handle d(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose);
-  if (!d.valid()) throw InputError(fmt::format("missing dataset {}", name));
+  Handle d = open_dataset(parent, name);
+  Handle type(H5Dget_type(d), H5Tclose);
   Handle space(H5Dget_space(d), H5Sclose);
-  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  const std::string what = fmt::format("dataset {}", name_of(d));
+  const H5T_class_t cls = H5Tget_class(type);
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT)
+    throw InputError(fmt::format("{} has another type (accepted: integer or floating-point "
+                                 "numbers)",
+                                 what));
+  const hssize_t n = H5Sget_simple_extent_type(space) == H5S_NULL
+                         ? 0
+                         : H5Sget_simple_extent_npoints(space);
+  if (n < 0 || n > max_dataset_values)
+    throw InputError(
+        fmt::format("{} declares {} values (accepted: 0 to {})", what, n, max_dataset_values));
+  require_stored(d, n, H5Tget_size(type), what);
   std::vector<double> v(static_cast<std::size_t>(n));
   if (n > 0)
     check(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "H5Dread");
@@ -359,6 +444,28 @@ void read_diagnostics(hid_t g, Diagnostics& d) {
   }
 }
 
+/// Group @p name of the root; InputError when it is missing or not a group.
+Handle open_group(hid_t file, const char* name) {
+  Handle g(H5Gopen2(file, name, H5P_DEFAULT), H5Gclose);
+  if (!g.valid()) throw InputError(fmt::format("missing group /{}", name));
+  return g;
+}
+
+/// Refuses a series of group @p group whose length differs from that of its first series: the
+/// readers of a file (compare, summaries, scripts) index them together.
+void require_length(const char* group, const char* name, const std::vector<double>& v,
+                    const char* first_name, const std::vector<double>& first) {
+  if (v.size() != first.size())
+    throw InputError(fmt::format("/{0}/{1} has {2} values, /{0}/{3} {4} (accepted: the same "
+                                 "number)",
+                                 group, name, v.size(), first_name, first.size()));
+}
+void require_length(const char* group, const char* name,
+                    const std::optional<std::vector<double>>& v, const char* first_name,
+                    const std::vector<double>& first) {
+  if (v) require_length(group, name, *v, first_name, first);
+}
+
 RunResult read_body(hid_t file) {
   RunResult r;
   if (read_attr_string(file, "schema") != "grainlift")
@@ -367,9 +474,10 @@ RunResult read_body(hid_t file) {
   if (version > schema_version)
     throw InputError(fmt::format("schema_version {} is newer than this grainlift reads ({})",
                                  version, schema_version));
+  if (version < 1)
+    throw InputError(fmt::format("schema_version {} (accepted: 1 to {})", version, schema_version));
   {
-    Handle g(H5Gopen2(file, "metadata", H5P_DEFAULT), H5Gclose);
-    if (!g.valid()) throw InputError("missing group /metadata");
+    Handle g = open_group(file, "metadata");
     r.meta.solver = read_attr_string(g, "solver");
     r.meta.grainlift_version = read_attr_string(g, "grainlift_version");
     r.meta.git_revision = read_attr_string(g, "git_revision");
@@ -380,32 +488,34 @@ RunResult read_body(hid_t file) {
     r.meta.partial = has_attr(g, "partial") && read_attr_int(g, "partial") != 0;
   }
   {
-    Handle g(H5Gopen2(file, "case", H5P_DEFAULT), H5Gclose);
-    if (!g.valid()) throw InputError("missing group /case");
+    Handle g = open_group(file, "case");
     r.meta.case_text = read_dataset_string(g, "text");
     r.meta.case_overrides = read_dataset_string(g, "overrides");
     r.meta.case_hash = read_attr_string(g, "hash");
     r.meta.case_path = read_attr_string(g, "path");
   }
   {
-    Handle g(H5Gopen2(file, "geometry", H5P_DEFAULT), H5Gclose);
-    if (!g.valid()) throw InputError("missing group /geometry");
+    Handle g = open_group(file, "geometry");
     for (const auto& [name, member] : geometry_fields)
       if (!optional_geometry_field(name) || H5Aexists(g, name) > 0)
         r.geometry.*member = read_attr_double(g, name);
   }
   if (exists(file, "forces")) {
-    Handle g(H5Gopen2(file, "forces", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "forces");
     ForceSeries f;
     f.time = read_doubles(g, "time");
     f.fx = read_doubles(g, "fx");
     f.fy = read_doubles(g, "fy");
     f.torque = read_doubles(g, "torque");
     if (exists(g, "contacts")) f.contacts = read_doubles(g, "contacts");
+    require_length("forces", "fx", f.fx, "time", f.time);
+    require_length("forces", "fy", f.fy, "time", f.time);
+    require_length("forces", "torque", f.torque, "time", f.time);
+    if (!f.contacts.empty()) require_length("forces", "contacts", f.contacts, "time", f.time);
     r.forces = std::move(f);
   }
   if (exists(file, "lid")) {
-    Handle g(H5Gopen2(file, "lid", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "lid");
     LidSeries l;
     l.time = read_doubles(g, "time");
     l.y = read_doubles(g, "y");
@@ -415,10 +525,12 @@ RunResult read_body(hid_t file) {
     l.mean_stderr = read_attr_optional(g, "mean_stderr");
     l.mass = read_attr_double(g, "mass");
     l.damping = read_attr_double(g, "damping");
+    require_length("lid", "y", l.y, "time", l.time);
+    require_length("lid", "pressure", l.pressure, "time", l.time);
     r.lid = std::move(l);
   }
   if (exists(file, "far_field")) {
-    Handle g(H5Gopen2(file, "far_field", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "far_field");
     FarFieldSeries ff;
     ff.time = read_doubles(g, "time");
     ff.pressure = read_doubles(g, "pressure");
@@ -429,14 +541,19 @@ RunResult read_body(hid_t file) {
     ff.mean_stderr = read_attr_optional(g, "mean_stderr");
     ff.exclusion = read_attr_double(g, "exclusion");
     ff.half_height = read_attr_double(g, "half_height");
+    for (const auto& [name, v] : {std::pair{"pressure", &ff.pressure},
+                                  {"stress_xx", &ff.stress_xx},
+                                  {"stress_xy", &ff.stress_xy},
+                                  {"stress_yy", &ff.stress_yy}})
+      require_length("far_field", name, *v, "time", ff.time);
     r.far_field = std::move(ff);
   }
   if (exists(file, "diagnostics")) {
-    Handle g(H5Gopen2(file, "diagnostics", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "diagnostics");
     read_diagnostics(g, r.diagnostics);
   }
   if (exists(file, "means")) {
-    Handle g(H5Gopen2(file, "means", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "means");
     MeanForces m;
     m.drag = read_attr_double(g, "drag");
     m.lift = read_attr_double(g, "lift");
@@ -450,7 +567,7 @@ RunResult read_body(hid_t file) {
     r.means = m;
   }
   if (exists(file, "surface")) {
-    Handle g(H5Gopen2(file, "surface", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "surface");
     SurfaceDistribution s;
     s.theta = read_doubles(g, "theta");
     s.sigma_n = read_doubles(g, "sigma_n");
@@ -460,10 +577,16 @@ RunResult read_body(hid_t file) {
     if (exists(g, "sigma_t_pointwise")) s.sigma_t_pointwise = read_doubles(g, "sigma_t_pointwise");
     if (exists(g, "sigma_n_stderr")) s.sigma_n_stderr = read_doubles(g, "sigma_n_stderr");
     if (exists(g, "sigma_t_stderr")) s.sigma_t_stderr = read_doubles(g, "sigma_t_stderr");
+    require_length("surface", "sigma_n", s.sigma_n, "theta", s.theta);
+    require_length("surface", "sigma_t", s.sigma_t, "theta", s.theta);
+    require_length("surface", "sigma_n_pointwise", s.sigma_n_pointwise, "theta", s.theta);
+    require_length("surface", "sigma_t_pointwise", s.sigma_t_pointwise, "theta", s.theta);
+    require_length("surface", "sigma_n_stderr", s.sigma_n_stderr, "theta", s.theta);
+    require_length("surface", "sigma_t_stderr", s.sigma_t_stderr, "theta", s.theta);
     r.surface = std::move(s);
   }
   if (exists(file, "histogram")) {
-    Handle g(H5Gopen2(file, "histogram", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "histogram");
     SurfaceHistogram h;
     h.theta_lo = read_doubles(g, "theta_lo");
     h.theta_hi = read_doubles(g, "theta_hi");
@@ -471,10 +594,16 @@ RunResult read_body(hid_t file) {
     h.normal_force = read_doubles(g, "normal_force");
     h.tangential_force = read_doubles(g, "tangential_force");
     h.slip_fraction = read_doubles(g, "slip_fraction");
+    for (const auto& [name, v] : {std::pair{"theta_hi", &h.theta_hi},
+                                  {"contact_count", &h.contact_count},
+                                  {"normal_force", &h.normal_force},
+                                  {"tangential_force", &h.tangential_force},
+                                  {"slip_fraction", &h.slip_fraction}})
+      require_length("histogram", name, *v, "theta_lo", h.theta_lo);
     r.histogram = std::move(h);
   }
   if (exists(file, "fields")) {
-    Handle g(H5Gopen2(file, "fields", H5P_DEFAULT), H5Gclose);
+    Handle g = open_group(file, "fields");
     FieldGrid f;
     f.x = read_doubles(g, "x");
     f.y = read_doubles(g, "y");
@@ -486,6 +615,17 @@ RunResult read_body(hid_t file) {
     f.stress_yy = read_optional(g, "stress_yy");
     f.area_fraction = read_optional(g, "area_fraction");
     f.granular_temperature = read_optional(g, "granular_temperature");
+    // every field holds one value per cell: ny rows of nx (row-major, y the slow index)
+    const std::size_t cells = f.x.size() * f.y.size();
+    for (const auto& [name, v] :
+         {std::pair{"velocity_x", &f.velocity_x}, {"velocity_y", &f.velocity_y},
+          {"pressure", &f.pressure}, {"stress_xx", &f.stress_xx}, {"stress_xy", &f.stress_xy},
+          {"stress_yy", &f.stress_yy}, {"area_fraction", &f.area_fraction},
+          {"granular_temperature", &f.granular_temperature}})
+      if (*v && (*v)->size() != cells)
+        throw InputError(fmt::format("/fields/{} has {} values (accepted: one per cell, "
+                                     "len(y) x len(x) = {} x {})",
+                                     name, (*v)->size(), f.y.size(), f.x.size()));
     r.fields = std::move(f);
   }
   return r;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <toml++/toml.h>
 
@@ -183,7 +184,13 @@ int get_count(const toml::table& t, const NumberKey (&keys)[N], const std::strin
   if (!t.get("points")->is_integer())
     throw InputError(fmt::format("{}: [{}] points = {} is not an integer (accepted {})",
                                  at(file, t.get("points")), table, v, range_of(keys, "points")));
-  return static_cast<int>(v);
+  // refused before the conversion to int, which would be undefined out of its range
+  const long long count = t.get("points")->as_integer()->get();
+  if (count < 0 || count > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("{}: [{}] points = {} is out of range (accepted {}, at most {})",
+                                 at(file, t.get("points")), table, count,
+                                 range_of(keys, "points"), std::numeric_limits<int>::max()));
+  return static_cast<int>(count);
 }
 
 }  // namespace

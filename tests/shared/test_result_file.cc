@@ -12,6 +12,7 @@
 
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/result_file.h"
+#include "sample_result.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;
@@ -25,26 +26,7 @@ fs::path scratch(const std::string& name) {
 }
 
 RunResult full_result(std::size_t n_samples = 100) {
-  RunResult r;
-  r.meta.solver = "dem";
-  r.meta.grainlift_version = "0.1.0";
-  r.meta.git_revision = "abc123";
-  r.meta.threads = 2;
-  r.meta.wall_seconds = 12.5;
-  r.meta.created_utc = "2026-11-21T12:00:00Z";
-  r.meta.case_text = "[intruder]\ndiameter = 0.1 # ü\n";
-  r.meta.case_overrides = "intruder.omega=2\n";
-  r.meta.case_hash = "0123456789abcdef";
-  r.meta.case_path = "cases/demo/demo.toml";
-  r.meta.notes = "packing reused";
-  r.geometry.intruder_diameter = 0.1;
-  r.geometry.grain_diameter = 0.02;
-  r.geometry.domain_xmin = -3;
-  r.geometry.domain_xmax = 3;
-  r.geometry.velocity_x = 0.5;
-  r.geometry.omega = 20;
-  r.geometry.bulk_density = 16;
-  r.geometry.pressure_scale = 123.4;
+  RunResult r = grainlift::test_support::sample_result_head();
   ForceSeries f;
   for (std::size_t i = 0; i < n_samples; ++i) {
     f.time.push_back(i * 1e-4);
