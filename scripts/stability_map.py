@@ -179,7 +179,7 @@ def table(records):
             if "steps" in r:
                 res += f", {r['steps']} Newton steps"
         else:
-            res = short(r["message"]).replace("|", "/")
+            res = short(r["message"]).replace("|", "\\|")
         if r["defect"]:
             res = "**DEFECT: " + r["defect"] + "** " + res
         lines.append(f"| {r['solver']} | {r['what']} | {r['value']} | {r['outcome']} | "
@@ -191,6 +191,7 @@ def figure(records, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
     groups = []
     for r in records:
         key = (r["solver"], r["what"])
@@ -202,16 +203,21 @@ def figure(records, path):
     for row, key in enumerate(groups):
         rs = [r for r in records if (r["solver"], r["what"]) == key]
         for col, r in enumerate(rs):
-            ax.scatter(col, row, s=260, color=colour[r["outcome"]], marker="s")
-            ax.annotate(str(r["value"]), (col, row), ha="center", va="center", fontsize=6,
-                        color="white")
+            ax.add_patch(Rectangle((col - 0.45, row - 0.3), 0.9, 0.6, color=colour[r["outcome"]]))
+            v = r["value"]
+            label = f"{v:g}" if isinstance(v, (int, float)) else "\n".join(
+                w.replace("chauchat_medale", "Chauchat-M.").replace("barker_gray", "Barker-Gray")
+                for w in str(v).split(", "))
+            ax.annotate(label, (col, row), ha="center", va="center", fontsize=7, color="white")
     ax.set_yticks(range(len(groups)))
     ax.set_yticklabels([f"{s.upper()}: {w}" for s, w in groups], fontsize=8)
     ax.set_xticks([])
+    ax.set_xlim(-0.6, max(sum(1 for r in records if (r["solver"], r["what"]) == k) for k in groups) - 0.4)
+    ax.set_ylim(-0.6, len(groups) - 0.4)
     ax.invert_yaxis()
     for name, c in colour.items():
         ax.scatter([], [], color=c, marker="s", label=name)
-    ax.legend(loc="lower right", fontsize=7, ncol=5)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.01), fontsize=7, ncol=5, frameon=False)
     ax.set_title("grainlift stability map (value in each square; left to right as in the table)")
     fig.tight_layout()
     fig.savefig(path, dpi=130)
@@ -226,6 +232,8 @@ def main():
     ap.add_argument("--timeout", type=float, default=900)
     ap.add_argument("--doc", help="write the Markdown table into this file between the markers")
     ap.add_argument("--figure", help="PNG of the map")
+    ap.add_argument("--from-json", action="store_true",
+                    help="run nothing: table and figure from OUT_DIR/stability_map.json")
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     grid = []
@@ -234,6 +242,9 @@ def main():
     if "fem" in a.solvers:
         grid += fem_grid(a.quick)
     records = []
+    if a.from_json:  # only the table and the figure again, from an earlier run's records
+        grid = []
+        records = json.load(open(os.path.join(a.out_dir, "stability_map.json")))
     for solver, what, value, case, sets in grid:
         r = run_one(a.binary, a.out_dir, solver, what, value, case, sets, a.timeout)
         print(f"{solver} {what} = {value}: {r['outcome']} ({r['seconds']} s){' DEFECT ' + r['defect'] if r['defect'] else ''}",
