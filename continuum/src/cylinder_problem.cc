@@ -102,7 +102,8 @@ void CylinderProblem::hand_out_converged_level() {
   if (linearised_ && !corrected_) correct_for_gravity();
   out_.continuation_splits = splits_;
   report_convergence();
-  compute_boundary_outputs();
+  // a nested level's forces are already those of this state (record_level)
+  if (outputs_stage_ != stage_number_) compute_boundary_outputs();
   sample_fields();
   config_.level_converged(out_);
 }
@@ -450,6 +451,7 @@ void CylinderProblem::compute_boundary_outputs() {
     corrected_->solution() = u0;  // fields and VTU: the corrected state u_0 + du
     corrected_->solution() += du_;
   }
+  outputs_stage_ = stage_number_;
   out_.fx = v[0];
   out_.fy = v[1];
   out_.torque = v[2];

@@ -86,6 +86,7 @@ class CylinderProblem {
   std::deque<Stage> todo_;
   int splits_ = 0, stage_number_ = 0;
   int steps_recorded_ = 0;  ///< nonlinear steps counted in out_.levels so far
+  int outputs_stage_ = -1;  ///< stage_number_ of the state whose forces are in out_
   double done_delta_ = -1;  ///< delta of the last converged stage; < 0: none yet
   std::vector<std::unique_ptr<MuIRheology>> stage_rheology_;  ///< outlive the solves
 

@@ -222,7 +222,7 @@ void DemSystem::for_each_gap(F f) const {
       double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
       opt_.box.min_image(dx, dy);
       const double rs = p_.r[i] + p_.r[j];
-      f(rs - std::sqrt(dx * dx + dy * dy), p_.r[i], p_.r[j], false);
+      f(rs - std::sqrt(dx * dx + dy * dy), p_.r[i], p_.r[j], i, j);
     }
   }
   if (!intruder_.present) return;
@@ -230,14 +230,14 @@ void DemSystem::for_each_gap(F f) const {
     double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
     opt_.box.min_image(dx, dy);
     const double rs = p_.r[g] + intruder_.r;
-    f(rs - std::sqrt(dx * dx + dy * dy), p_.r[g], intruder_.r, true);
+    f(rs - std::sqrt(dx * dx + dy * dy), p_.r[g], intruder_.r, g, -1);
   }
 }
 
 double DemSystem::normal_elastic_energy() const {
   // (2/5) A_n delta^2 with A_n = k sqrt(delta) of F_n = A_n delta
   double e = 0;
-  for_each_gap([&](double delta, double ri, double rj, bool) {
+  for_each_gap([&](double delta, double ri, double rj, int, int) {
     if (delta > 0)
       e += 0.4 * law_.hertz_stiffness(ri * rj / (ri + rj)) * std::sqrt(delta) * delta * delta;
   });
@@ -259,24 +259,11 @@ void DemSystem::prepare() {
 
 DemSystem::WorstOverlap DemSystem::worst_overlap() const {
   WorstOverlap w;
-  for (int i = 0; i < n_grains_; ++i) {
-    for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
-      const int j = nl_.partner[k];
-      double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
-      opt_.box.min_image(dx, dy);
-      const double f = (p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy)) /
-                       (2.0 * std::min(p_.r[i], p_.r[j]));
-      if (f > w.fraction) w = {i, j, f};
-    }
-  }
-  if (intruder_.present) {
-    for (int g : ic_.grain) {
-      double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
-      opt_.box.min_image(dx, dy);
-      const double f = (p_.r[g] + intruder_.r - std::sqrt(dx * dx + dy * dy)) / (2.0 * p_.r[g]);
-      if (f > w.fraction) w = {g, -1, f};
-    }
-  }
+  for_each_gap([&](double delta, double ri, double rj, int i, int j) {
+    // against the grain's diameter for the intruder (j < 0), the smaller one for a pair
+    const double f = delta / (2.0 * (j < 0 ? ri : std::min(ri, rj)));
+    if (f > w.fraction) w = {i, j, f};
+  });
   return w;
 }
 
@@ -303,14 +290,7 @@ int DemSystem::fastest_grain() const {
   return best;
 }
 
-double DemSystem::current_max_overlap_fraction() const {
-  double worst = 0;
-  for_each_gap([&](double delta, double ri, double rj, bool intruder) {
-    // against the grain's diameter for the intruder, the smaller one for a pair
-    worst = std::max(worst, delta / (2.0 * (intruder ? ri : std::min(ri, rj))));
-  });
-  return worst;
-}
+double DemSystem::current_max_overlap_fraction() const { return worst_overlap().fraction; }
 
 void DemSystem::choose_team() {
   int want = team_max_;

@@ -262,18 +262,18 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
       smp.torque = s.intruder_torque();
       smp.contacts = s.intruder_touching();
       const double ke = s.kinetic_energy();
-      const std::string when = "step " + str(k) + " (t = " + str(t) + " s): ";
+      const auto when = [&] { return "step " + str(k) + " (t = " + str(t) + " s): "; };
       if (!std::isfinite(smp.fx) || !std::isfinite(smp.fy) || !std::isfinite(smp.torque) ||
           !std::isfinite(ke)) {
         const int g = s.first_non_finite_grain();
-        throw RunFailure(when + "NaN: non-finite state (intruder force (" + str(smp.fx) + ", " +
+        throw RunFailure(when() + "NaN: non-finite state (intruder force (" + str(smp.fx) + ", " +
                          str(smp.fy) + ") N, kinetic energy " + str(ke) + " J" +
                          (g >= 0 ? ", first at grain " + str(g) + describe_grain(s, g) : "") +
                          "); dt = " + str(c.dt) + " s may be too large");
       }
       if (ke > energy_limit) {
         const int g = s.fastest_grain();
-        throw RunFailure(when + "energy growth: the grains' kinetic energy " + str(ke) +
+        throw RunFailure(when() + "energy growth: the grains' kinetic energy " + str(ke) +
                          " J exceeds " + str(energy_limit) + " J (all of them at 3x the fastest "
                          "speed the scene imposes, " + str(speed_scale) + " m/s, plus the lid's "
                          "work over the box); fastest grain " +
@@ -285,7 +285,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
         const std::string partner = w.j < 0 ? std::string("the intruder")
                                     : w.j >= s.grains() ? "wall disk " + str(w.j - s.grains())
                                                         : "grain " + str(w.j);
-        throw RunFailure(when + "overlap: an overlap reached " + str(ov) +
+        throw RunFailure(when() + "overlap: an overlap reached " + str(ov) +
                          " of a grain diameter, above max_overlap_fraction = " +
                          str(c.max_overlap_fraction) + " (now the largest: grain " + str(w.i) +
                          describe_grain(s, w.i) + " and " + partner + ", " + str(w.fraction) +

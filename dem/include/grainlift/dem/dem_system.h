@@ -219,8 +219,9 @@ class DemSystem {
 
  private:
   void build_lists();
-  /// Calls f(delta, r_i, r_j, intruder) for every listed pair and every intruder candidate
-  /// (r_j = R, intruder true), delta = r_i + r_j - |x_i - x_j| of the current positions (any sign).
+  /// Calls f(delta, r_i, r_j, i, j) for every listed pair (grain i, body j: a grain or a
+  /// frozen disk >= grains()) and every intruder candidate (grain i, r_j = R, j = -1),
+  /// delta = r_i + r_j - |x_i - x_j| of the current positions (any sign).
   template <class F>
   void for_each_gap(F f) const;
   /// Pair forces of the rows of one chunk (pass 1: distance checks, pass 2: contact law).
