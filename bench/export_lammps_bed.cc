@@ -7,7 +7,7 @@
 
 #include "bench_beds.h"
 #include "grainlift/dem/packing.h"
-#include "lammps_data.h"
+#include "grainlift/dem/lammps_bridge.h"
 
 int main(int argc, char** argv) {
   if (argc != 3) {
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   const auto walls = gd::make_wall_disks(c);
   char title[64];
   std::snprintf(title, sizeof title, "grainlift bed Phi = %.4f", bed.area_fraction);
-  if (!grainlift::bench::write_lammps_data(argv[2], title, c, bed, walls)) return 1;
+  if (!grainlift::dem::write_lammps_data(argv[2], title, c, bed, walls)) return 1;
   std::printf("%zu grains, %zu wall disks written to %s\n", bed.r.size(), walls.size(), argv[2]);
   return 0;
 }

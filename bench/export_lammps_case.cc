@@ -18,7 +18,7 @@
 #include "grainlift/dem/packing.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"
-#include "lammps_data.h"
+#include "grainlift/dem/lammps_bridge.h"
 
 namespace {
 
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     const gd::PackedBed bed = gd::prepare_packing(c);
     const auto walls = gd::make_wall_disks(c);
 
-    if (!grainlift::bench::write_lammps_data(
+    if (!grainlift::dem::write_lammps_data(
             out_path, "grainlift case " + case_path + ", Phi = " + std::to_string(bed.area_fraction),
             c, bed, walls)) {
       std::fprintf(stderr, "%s: cannot write %s\n", argv[0], out_path.c_str());

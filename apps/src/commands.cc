@@ -354,6 +354,27 @@ int main_with_args(int argc, char** argv) {
                 "their split, fields and a table of both solvers (scripts/report.py)");
   report->add_option("DIR", report_dir, "result folder with dem.h5 and/or fem.h5")->required();
 
+  std::string export_case, export_dir;
+  std::vector<std::string> export_sets;
+  auto* exporter = app.add_subcommand("export", "write a case for another code");
+  exporter->require_subcommand(1);
+  auto* export_lammps = exporter->add_subcommand(
+      "lammps", "the case's prepared bed and scene as a LAMMPS input script and data file in DIR "
+                "(docs/lammps.md); run it with lmp or mpirun, then `grainlift import lammps`");
+  export_lammps->add_option("CASE", export_case, "case file (TOML)")->required();
+  export_lammps->add_option("DIR", export_dir, "folder to write in.grainlift and bed.data to")
+      ->required();
+  export_lammps->add_option("--set", export_sets, "override a case key (as for run)");
+
+  std::string import_dir, import_out;
+  auto* importer = app.add_subcommand("import", "read another code's run of an exported case");
+  importer->require_subcommand(1);
+  auto* import_lammps = importer->add_subcommand(
+      "lammps", "LAMMPS's outputs in DIR (from `grainlift export lammps`) as OUT/dem.h5 and "
+                "summary.json, through the DEM's post-processing");
+  import_lammps->add_option("DIR", import_dir, "the exported folder LAMMPS ran in")->required();
+  import_lammps->add_option("--out", import_out, "output folder (default: DIR/grainlift)");
+
   bool markdown = false;
   auto* keys = app.add_subcommand("keys", "list every case key with unit, default and range");
   keys->add_flag("--markdown", markdown, "as the Markdown table of docs/case-format.md");
@@ -372,6 +393,10 @@ int main_with_args(int argc, char** argv) {
     if (*sweep) return cmd_sweep(sweep_args, vary);
     if (*calibrate) return cmd_calibrate(cal);
     if (*report) return cmd_report(report_dir);
+    if (*export_lammps) return cmd_export_lammps(export_case, export_sets, export_dir);
+    if (*import_lammps)
+      return cmd_import_lammps(import_dir,
+                               import_out.empty() ? import_dir + "/grainlift" : import_out);
     if (*keys) {
       if (markdown) fmt::print("{}", keys_markdown());
       else

@@ -26,6 +26,14 @@ int cmd_calibrate(const CalibrateArgs& a);
 /// writes DIR/report.html; exit code. A folder without dem.h5 or fem.h5 is an InputError.
 int cmd_report(const std::string& dir);
 
+/// `grainlift export lammps CASE DIR` (lammps_command.cc): the case's bed and scene as a
+/// LAMMPS input in DIR; exit code.
+int cmd_export_lammps(const std::string& case_path, const std::vector<std::string>& sets,
+                      const std::string& dir);
+/// `grainlift import lammps DIR --out OUT`: LAMMPS's outputs in DIR as OUT/dem.h5 and
+/// summary.json; exit code.
+int cmd_import_lammps(const std::string& dir, const std::string& out);
+
 /// Parses argv, runs the subcommand, maps errors to exit codes (0, 1 run failed, 2 bad input).
 int main_with_args(int argc, char** argv);
 

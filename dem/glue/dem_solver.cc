@@ -86,7 +86,9 @@ void add_surface_stderr(const Case& c, const DemOutput& out, double heading,
   s.sigma_t_stderr = std::move(se_t);
 }
 
-RunResult to_result(const Case& c, const DemOutput& out) {
+}  // namespace
+
+RunResult dem_result(const Case& c, const DemOutput& out) {
   RunResult r;
   const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
   const double heading = std::atan2(vy, vx);
@@ -260,8 +262,6 @@ RunResult to_result(const Case& c, const DemOutput& out) {
   }
   return r;
 }
-
-}  // namespace
 
 DemConfig make_dem_config(const Case& c, int threads) {
   DemConfig d;
@@ -438,7 +438,7 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     std::error_code ignored;  // the run is complete: its checkpoint is of no more use
     std::filesystem::remove(checkpoint_path(*opt), ignored);
   }
-  RunResult r = to_result(c, out);
+  RunResult r = dem_result(c, out);
   r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
   r.diagnostics.values["bed_max_overlap"] = out.bed_max_overlap;
   if (out.resumed_from_step >= 0) {
