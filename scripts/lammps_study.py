@@ -10,9 +10,10 @@ the whole run.
 
     scripts/lammps_study.py build/bin/grainlift WORK [--phi 0.35 0.8] [--omega 0 5]
         [--seeds 1 2 3] [--travel 30] [--steady 12.5] [--speed 0.25] [--lmp lmp]
-        [--doc docs/lammps.md]
+        [--set KEY=VALUE ...] [--doc docs/lammps.md --marker study]
 
---doc replaces the text between "<!-- study:begin -->" and "<!-- study:end -->" there.
+--set adds case overrides to every run of both codes (an experiment: damping off, ...).
+--doc replaces the text between "<!-- MARKER:begin -->" and "<!-- MARKER:end -->" there.
 """
 import argparse
 import json
@@ -60,7 +61,10 @@ def main():
     ap.add_argument("--steady", type=float, default=12.5)
     ap.add_argument("--speed", type=float, default=0.25)
     ap.add_argument("--lmp", default="lmp")
+    ap.add_argument("--set", dest="extra", action="append", default=[],
+                    help="a case override for every run (repeatable)")
     ap.add_argument("--doc")
+    ap.add_argument("--marker", default="study")
     a = ap.parse_args()
     if shutil.which(a.lmp) is None:
         sys.exit(f"{a.lmp} not found (Debian: apt install lammps)")
@@ -73,7 +77,7 @@ def main():
                 tag = f"phi{phi}_omega{omega:g}_seed{seed}"
                 sets = [f"intruder.velocity=[{a.speed},0.0]", f"intruder.omega={omega}",
                         f"dem.travel={a.travel}", f"dem.steady_travel={a.steady}",
-                        f"dem.seed={seed}"]
+                        f"dem.seed={seed}"] + a.extra
                 set_args = [x for s in sets for x in ("--set", s)]
                 case = os.path.join(ROOT, CASES[phi])
                 exp = os.path.join(a.work, tag, "lammps")
@@ -101,7 +105,8 @@ def main():
     out = []
     out.append(f"Reduced Kumar cases (60 d x 40 d), V0 = {a.speed} m/s, {a.travel:g} d of travel, "
                f"means over {a.steady:g}-{a.travel:g} d; one thread / one rank each, run one "
-               f"after the other. Per run (+- block standard error, N/m):\n")
+               f"after the other" + (f"; every run with {', '.join(a.extra)}" if a.extra else "") +
+               ". Per run (+- block standard error, N/m):\n")
     out.append("| Phi | Omega | bed | LAMMPS drag | grainlift drag | LAMMPS lift | grainlift lift "
                "| LAMMPS s | grainlift s |")
     out.append("|---|---|---|---|---|---|---|---|---|")
@@ -133,7 +138,7 @@ def main():
     print(text)
     if a.doc:
         doc = open(a.doc).read()
-        b, e = "<!-- study:begin -->", "<!-- study:end -->"
+        b, e = f"<!-- {a.marker}:begin -->", f"<!-- {a.marker}:end -->"
         if b not in doc or e not in doc:
             sys.exit(f"{a.doc}: no {b} ... {e} markers")
         doc = doc[:doc.index(b) + len(b)] + "\n" + text + doc[doc.index(e):]
