@@ -211,6 +211,24 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
     r.far_field = std::move(ff);
   }
 
+  if (!out.bed.gap_fraction.empty()) {
+    const BedFingerprint& f = out.bed;
+    BedStructure b;
+    b.contacts_per_grain = f.contacts_per_grain;
+    b.rattler_fraction = f.rattler_fraction;
+    b.fabric_xx = f.fabric_xx;
+    b.fabric_xy = f.fabric_xy;
+    b.fabric_yy = f.fabric_yy;
+    b.mean_gap = f.mean_gap;
+    b.gap_edges = f.gap_edges;
+    b.gap_fraction = f.gap_fraction;
+    b.band_y = f.band_y;
+    b.band_area_fraction = f.band_area_fraction;
+    b.ring_r = f.ring_r;
+    b.ring_area_fraction = f.ring_area_fraction;
+    r.bed = std::move(b);
+  }
+
   r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
   // Pressure scale: the lid pressure plus the lithostatic pressure at the intruder (either may

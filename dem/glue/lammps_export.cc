@@ -12,6 +12,7 @@
 
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/lammps_bridge.h"
+#include "grainlift/dem/simulation.h"
 #include "grainlift/shared/atomic_file.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"
@@ -114,7 +115,7 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
     throw InputError(fmt::format("{}: LAMMPS cannot run this case as grainlift does: {}",
                                  cs.source.path, why));
   const DemConfig c = make_dem_config(cs, 1);
-  const PackedBed bed = prepare_packing(c);
+  const PackedBed bed = prepare_packing(packing_config(c));
   const std::vector<Disk> walls = make_wall_disks(c);
   make_directories(dir);
 

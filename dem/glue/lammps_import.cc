@@ -14,6 +14,7 @@
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/lammps_bridge.h"
+#include "grainlift/dem/simulation.h"
 #include "grainlift/shared/errors.h"
 
 namespace grainlift::dem {
@@ -178,6 +179,12 @@ RunResult import_lammps(const Case& c, const std::string& dir) {
       if (l.rfind("area_fraction ", 0) == 0) out.achieved_area_fraction = std::atof(l.c_str() + 14);
       if (l.rfind("packing_from_cache ", 0) == 0) out.packing_from_cache = l.back() == '1';
     }
+  }
+  // the structure of the exported bed: the same packing (cache, or prepared again from the
+  // same seed)
+  {
+    const PackedBed bed = prepare_packing(packing_config(cfg));
+    out.bed = bed_fingerprint(cfg, bed, make_wall_disks(cfg));
   }
   const double speed = std::hypot(cfg.intruder_velocity[0], cfg.intruder_velocity[1]);
   const double steady_time = cfg.steady_travel * cfg.grain_diameter / speed;

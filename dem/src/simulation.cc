@@ -111,6 +111,12 @@ double validate_config(const DemConfig& c) {
   return tc;
 }
 
+DemConfig packing_config(const DemConfig& cfg) {
+  DemConfig packing = cfg;
+  packing.dt = std::min(cfg.dt, 0.1 * validate_config(cfg));
+  return packing;
+}
+
 DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress) {
   return run_simulation(c, progress, {});
 }
@@ -132,17 +138,20 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     // the bed, the outputs so far and the system's state come from the checkpoint
     out = resume->out;
     out.resumed_from_step = resume->step;
+    // the checkpoint holds no fingerprint: that of the same bed (the packing cache, or the
+    // same preparation again)
+    const PackedBed bed = prepare_packing(packing_config(c), progress);
+    out.bed = bed_fingerprint(c, bed, make_wall_disks(c));
     system = std::make_unique<DemSystem>(system_options(c));
     system->set_bodies(resume->system.grains, resume->system.frozen);
   } else {
     // the bed is prepared at a step no larger than 0.1 of the collision time, whatever dt the
     // run tests (max_dt_fraction may allow more: stability studies); the same bed, and cache
     // entry, as before for every dt within the default limit
-    DemConfig packing = c;
-    packing.dt = std::min(c.dt, 0.1 * out.collision_time);
-    const PackedBed bed = prepare_packing(packing, progress);
+    const PackedBed bed = prepare_packing(packing_config(c), progress);
     out.packing_from_cache = bed.from_cache;
     out.achieved_area_fraction = bed.area_fraction;
+    out.bed = bed_fingerprint(c, bed, make_wall_disks(c));
     system = system_on_bed(c, bed);
   }
   DemSystem& s = *system;

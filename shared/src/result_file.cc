@@ -189,6 +189,22 @@ void write_body(hid_t file, const RunResult& r) {
     attr_number(g, "exclusion", ff.exclusion);
     attr_number(g, "half_height", ff.half_height);
   }
+  if (r.bed) {
+    const BedStructure& b = *r.bed;
+    Handle g = make_group(file, "bed");
+    attr_number(g, "contacts_per_grain", b.contacts_per_grain);
+    attr_number(g, "rattler_fraction", b.rattler_fraction);
+    attr_number(g, "fabric_xx", b.fabric_xx);
+    attr_number(g, "fabric_xy", b.fabric_xy);
+    attr_number(g, "fabric_yy", b.fabric_yy);
+    attr_number(g, "mean_gap", b.mean_gap);
+    dataset_doubles(g, "gap_edges", b.gap_edges, "1");
+    dataset_doubles(g, "gap_fraction", b.gap_fraction, "1");
+    dataset_doubles(g, "band_y", b.band_y, "m");
+    dataset_doubles(g, "band_area_fraction", b.band_area_fraction, "1");
+    dataset_doubles(g, "ring_r", b.ring_r, "m");
+    dataset_doubles(g, "ring_area_fraction", b.ring_area_fraction, "1");
+  }
   if (r.means) {
     const MeanForces& m = *r.means;
     Handle g = make_group(file, "means");
@@ -547,6 +563,29 @@ RunResult read_body(hid_t file) {
                                   {"stress_yy", &ff.stress_yy}})
       require_length("far_field", name, *v, "time", ff.time);
     r.far_field = std::move(ff);
+  }
+  if (exists(file, "bed")) {
+    Handle g = open_group(file, "bed");
+    BedStructure b;
+    b.contacts_per_grain = read_attr_double(g, "contacts_per_grain");
+    b.rattler_fraction = read_attr_double(g, "rattler_fraction");
+    b.fabric_xx = read_attr_double(g, "fabric_xx");
+    b.fabric_xy = read_attr_double(g, "fabric_xy");
+    b.fabric_yy = read_attr_double(g, "fabric_yy");
+    b.mean_gap = read_attr_double(g, "mean_gap");
+    b.gap_edges = read_doubles(g, "gap_edges");
+    b.gap_fraction = read_doubles(g, "gap_fraction");
+    b.band_y = read_doubles(g, "band_y");
+    b.band_area_fraction = read_doubles(g, "band_area_fraction");
+    b.ring_r = read_doubles(g, "ring_r");
+    b.ring_area_fraction = read_doubles(g, "ring_area_fraction");
+    if (b.gap_edges.size() != b.gap_fraction.size() + 1)
+      throw InputError(fmt::format("/bed/gap_edges holds {} values, /bed/gap_fraction {} "
+                                   "(accepted: one edge more than bins)", b.gap_edges.size(),
+                                   b.gap_fraction.size()));
+    require_length("bed", "band_area_fraction", b.band_area_fraction, "band_y", b.band_y);
+    require_length("bed", "ring_area_fraction", b.ring_area_fraction, "ring_r", b.ring_r);
+    r.bed = std::move(b);
   }
   if (exists(file, "diagnostics")) {
     Handle g = open_group(file, "diagnostics");

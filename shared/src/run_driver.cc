@@ -66,6 +66,10 @@ JsonObject summary_object(const RunResult& r) {
     o.add("lid_pressure_mean", r.lid->mean);
     o.add("lid_pressure_stderr", r.lid->mean_stderr);
   }
+  if (r.bed) {
+    o.add("bed_contacts_per_grain", r.bed->contacts_per_grain);
+    o.add("bed_rattler_fraction", r.bed->rattler_fraction);
+  }
   if (r.far_field) {
     o.add("far_field_pressure", r.far_field->mean);
     o.add("far_field_pressure_stderr", r.far_field->mean_stderr);

@@ -71,7 +71,11 @@ inline const std::vector<std::string>& schema_names() {
       // /derived, /diagnostics, datasets' attribute
       "units", "spin_ratio", "lift_over_drag", "buoyancy", "drag_coefficient",
       "sigma_n_symmetric", "drag_mesh_error", "residual_history", "converged", "linear_solver",
-      "extra"};
+      "extra",
+      // /bed (appended: the indices above are those of the corpus files)
+      "bed", "contacts_per_grain", "rattler_fraction", "fabric_xx", "fabric_xy", "fabric_yy",
+      "mean_gap", "gap_edges", "gap_fraction", "band_y", "band_area_fraction", "ring_r",
+      "ring_area_fraction"};
   return names;
 }
 

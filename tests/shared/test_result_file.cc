@@ -83,6 +83,20 @@ RunResult full_result(std::size_t n_samples = 100) {
   g.velocity_y = std::vector<double>{0, 0, 0, 0, 0, NAN};
   g.area_fraction = std::vector<double>{0.8, 0.8, 0.7, 0.6, 0.5, 0.4};
   r.fields = g;  // no stress, no pressure, no temperature: must stay absent
+  BedStructure bed;
+  bed.contacts_per_grain = 0.17;
+  bed.rattler_fraction = 0.93;
+  bed.fabric_xx = 0.48;
+  bed.fabric_xy = -0.01;
+  bed.fabric_yy = 0.52;
+  bed.mean_gap = 0.12;
+  bed.gap_edges = {-0.05, 0.0, 0.01, 0.1};
+  bed.gap_fraction = {0.1, 0.5, 0.4};
+  bed.band_y = {0.01, 0.03};
+  bed.band_area_fraction = {0.79, 0.81};
+  bed.ring_r = {0.06};
+  bed.ring_area_fraction = {0.7};
+  r.bed = bed;
   return r;
 }
 
@@ -115,6 +129,17 @@ void expect_equal(const RunResult& a, const RunResult& b) {
     EXPECT_EQ(a.surface->kernel_width_deg, b.surface->kernel_width_deg);
     EXPECT_EQ(a.surface->sigma_n_pointwise, b.surface->sigma_n_pointwise);
     EXPECT_EQ(a.surface->sigma_t_pointwise, b.surface->sigma_t_pointwise);
+  }
+  ASSERT_EQ(a.bed.has_value(), b.bed.has_value());
+  if (a.bed) {
+    EXPECT_EQ(a.bed->contacts_per_grain, b.bed->contacts_per_grain);
+    EXPECT_EQ(a.bed->rattler_fraction, b.bed->rattler_fraction);
+    EXPECT_EQ(a.bed->fabric_xy, b.bed->fabric_xy);
+    EXPECT_EQ(a.bed->mean_gap, b.bed->mean_gap);
+    EXPECT_EQ(a.bed->gap_edges, b.bed->gap_edges);
+    EXPECT_EQ(a.bed->gap_fraction, b.bed->gap_fraction);
+    EXPECT_EQ(a.bed->band_area_fraction, b.bed->band_area_fraction);
+    EXPECT_EQ(a.bed->ring_r, b.bed->ring_r);
   }
   ASSERT_EQ(a.histogram.has_value(), b.histogram.has_value());
   if (a.histogram) {

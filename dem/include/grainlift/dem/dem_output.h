@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "grainlift/dem/bed_fingerprint.h"
+
 namespace grainlift::dem {
 
 /// Force on the intruder at one sample time (lab frame, per unit length).
@@ -67,6 +69,9 @@ struct DemOutput {
   long long sleep_wakes = 0;
   int sleep_wake_builds = 0;
   bool stopped_early = false;
+  /// the prepared bed's structure at rest (bed_fingerprint.h); gap_fraction empty when not
+  /// measured (a run resumed from a checkpoint)
+  BedFingerprint bed;
   double bed_max_overlap = 0;  ///< largest overlap / smaller diameter of the prepared bed at rest
   bool interrupted = false;              ///< ended by RunControl::interrupted (a checkpoint was taken)
   long long resumed_from_step = -1;      ///< the step of the checkpoint it went on from (-1: none)             ///< a RunMonitor ended the run before the travel

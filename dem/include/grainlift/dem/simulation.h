@@ -14,6 +14,12 @@ namespace grainlift::dem {
 /// @throws ConfigError naming the offending numbers.
 double validate_config(const DemConfig& cfg);
 
+/// @brief The configuration a run of @p cfg prepares its bed with: cfg with dt no larger than
+/// 0.1 of the binary collision time (validate_config), whatever dt the run itself uses, so
+/// that runs, exports and their cache entries share one bed. @throws ConfigError as
+/// validate_config.
+DemConfig packing_config(const DemConfig& cfg);
+
 /// @brief Prepare (or load) the bed, drive the intruder through it for cfg.travel grain
 /// diameters and return the sampled forces, the intruder contacts after the steady state and
 /// the coarse-grained fields.

@@ -120,6 +120,19 @@ struct FieldGrid {
   std::optional<std::vector<double>> granular_temperature;    ///< m^2/s^2
 };
 
+/// The DEM's prepared bed at rest, before the intruder moves (/bed; dem/.../bed_fingerprint.h):
+/// a fingerprint of how the bed was made (issue 17).
+struct BedStructure {
+  double contacts_per_grain = 0;  ///< touching neighbours (grains, wall disks) per mobile grain
+  double rattler_fraction = 0;    ///< mobile grains with fewer than 2 contacts
+  double fabric_xx = 0, fabric_xy = 0, fabric_yy = 0;  ///< <n n> over grain-grain contacts
+  double mean_gap = 0;            ///< mean gap to the nearest neighbour, mean diameters
+  std::vector<double> gap_edges;     ///< mean diameters, n + 1 bin edges
+  std::vector<double> gap_fraction;  ///< fraction of grains whose nearest gap is in each bin (n)
+  std::vector<double> band_y, band_area_fraction;  ///< m, -: bands across the box
+  std::vector<double> ring_r, ring_area_fraction;  ///< m, -: rings round the intruder's start
+};
+
 /// Solver diagnostics (/diagnostics): how the run went, as typed values a script reads by name
 /// (docs/schema.md lists every name each solver writes), never parsed out of meta.notes.
 struct Diagnostics {
@@ -141,6 +154,7 @@ struct RunResult {
   std::optional<FieldGrid> fields;
   std::optional<LidSeries> lid;
   std::optional<FarFieldSeries> far_field;
+  std::optional<BedStructure> bed;
   Diagnostics diagnostics;
 };
 
