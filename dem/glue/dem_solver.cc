@@ -327,6 +327,9 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.sleep_speed = c.dem.sleep ? c.dem.sleep_speed * std::hypot(c.intruder.velocity[0], c.intruder.velocity[1]) : -1.0;
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
+  d.preparation = c.dem.preparation == "wall_compression" ? Preparation::wall_compression
+                                                          : Preparation::radius_growth;
+  d.compression_speed = c.dem.compression_speed;
   d.packing_cache_dir = cache_folder(c.dem.packing_cache, "packings");
   const FieldGridLayout grid = field_grid_layout(c);
   d.fields.enabled = grid.enabled;

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <numeric>
 #include <random>
@@ -29,6 +30,9 @@ constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '1'};
 constexpr double kInsertPhi = 0.3;       // area fraction of the reduced-radius insertion
 constexpr double kGrowthPerStep = 2e-5;  // radius growth per step, in mean diameters
 constexpr long kMaxRelaxSteps = 400000;
+// area fraction of the full-size insertion of the wall compression (random sequential
+// insertion of these disks jams near 0.55)
+constexpr double kWallInsertPhi = 0.45;
 // The frictionless relaxation after the radius growth stops at max(relax_ke, this) (J per grain):
 // it only has to let the compressed packing find a force balance. Below it, a frictionless bed
 // under gravity keeps creeping and its kinetic energy decays ~10 times slower than with friction
@@ -132,6 +136,67 @@ void read_back(const DemSystem& s, std::vector<double>& x, std::vector<double>& 
   x.assign(p.x.begin(), p.x.begin() + s.grains());
   y.assign(p.y.begin(), p.y.begin() + s.grains());
   r.assign(p.r.begin(), p.r.begin() + s.grains());
+}
+
+/// Kumar 2019 Sec. II's dense bed: the grains (radii @p r, full size) inserted at random in a
+/// box taller than @p c's, at area fraction kWallInsertPhi, then both walls close at
+/// c.compression_speed each, symmetrically about the box's centre line, to their places in
+/// @p c while the bed relaxes (frictionless: with friction a bed closed to Phi 0.8 jams, 3
+/// contacts per grain and 40x the drag, where Kumar's D ~ V0^2 with D_0 ~ 0 says theirs did
+/// not; the preparation's drag; the intruder at rest). Returns the positions in @p x, @p y.
+void compress_with_wall(const DemConfig& c, const std::vector<double>& r, std::mt19937_64& rng,
+                        std::vector<double>& x, std::vector<double>& y,
+                        const std::function<void(double)>& report) {
+  if (!c.wall_top || !c.wall_bottom || c.periodic_y || c.wall_left || c.wall_right)
+    throw ConfigError("dem.preparation = \"wall_compression\" closes the bottom and top walls: "
+                      "it needs both, no side walls and a box not periodic in y");
+  if (!(c.compression_speed > 0)) throw ConfigError("compression_speed must be > 0");
+  double grains_area = 0;
+  for (double v : r) grains_area += kPi * v * v;
+  DemConfig tall = c;
+  const double width = grain_region(c).x1 - grain_region(c).x0;
+  const double extra = (grains_area / kWallInsertPhi - accessible_area(c)) / width;
+  tall.ymin = c.ymin - 0.5 * std::max(0.0, extra);
+  tall.ymax = c.ymax + 0.5 * std::max(0.0, extra);
+  if (!insert_randomly(tall, r, rng, x, y)) {
+    std::ostringstream m;
+    m << "random insertion of " << r.size() << " grains at full size failed in the "
+      << "compression box (area fraction " << kWallInsertPhi << ")";
+    throw ConfigError(m.str());
+  }
+  DemSystem s(system_options(tall));
+  const std::vector<Disk> walls = make_wall_disks(tall);
+  s.set_bodies(grain_disks(c, x, y, r), walls);
+  if (c.intruder_diameter > 0)
+    s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter, 0,
+                   0, 0, 0);
+  s.set_friction(0, 0);
+  s.set_background_damping(1.0 / (2000.0 * c.dt));
+  // the bottom and top rows of wall disks (make_wall_disks puts each in one run)
+  auto row_of = [&](double yc, int& begin, int& end) {
+    begin = end = -1;
+    for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
+      if (walls[k].y != yc) continue;
+      if (begin < 0) begin = k;
+      end = k + 1;
+    }
+    begin += s.grains();
+    end += s.grains();
+  };
+  int b0, b1, t0, t1;
+  row_of(tall.ymin + 0.5 * c.grain_diameter, b0, b1);
+  row_of(tall.ymax - 0.5 * c.grain_diameter, t0, t1);
+  const double drop = tall.ymax - c.ymax;
+  const long steps = std::max(1L, static_cast<long>(std::ceil(drop / (c.compression_speed * c.dt))));
+  const double dy = drop / static_cast<double>(steps);
+  for (long k = 0; k < steps; ++k) {
+    s.move_frozen(b0, b1, 0.0, dy, 0.0, dy / c.dt);
+    s.move_frozen(t0, t1, 0.0, -dy, 0.0, -dy / c.dt);
+    s.step();
+    if (k % std::max(1L, steps / 20) == 0) report(0.6 * static_cast<double>(k) / steps);
+  }
+  std::vector<double> rr;
+  read_back(s, x, y, rr);
 }
 
 void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
@@ -249,6 +314,12 @@ std::uint64_t packing_hash(const DemConfig& c) {
   }
   hash_value(h, static_cast<int>(c.contact.law));
   hash_value(h, c.seed);
+  // radius-growth beds keep the key they had before the choice existed
+  if (c.preparation == Preparation::wall_compression) {
+    const char stage[] = "wall-compression-both-walls-frictionless";
+    hash_bytes(h, stage, sizeof stage);
+    hash_value(h, c.compression_speed);
+  }
   // Beds made with relax_ke >= kFrictionlessRelaxKe keep their key (their preparation did not
   // change); below it the frictionless stage stops earlier than it used to: a new key.
   if (frictionless_relax_ke(c) != c.relax_ke_per_grain) {
@@ -295,10 +366,14 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
 
   std::vector<double> x, y;
   const bool direct = phi_pack < 0.4;
+  const bool closing_wall = !direct && c.preparation == Preparation::wall_compression;
+  if (closing_wall) {
+    compress_with_wall(c, r, rng, x, y, report);
+  }
   const double shrink = direct ? 1.0 : std::sqrt(kInsertPhi / phi_pack);
   std::vector<double> r_ins(r);
   for (auto& v : r_ins) v *= shrink;
-  if (!insert_randomly(c, r_ins, rng, x, y)) {
+  if (!closing_wall && !insert_randomly(c, r_ins, rng, x, y)) {
     std::ostringstream m;
     m << "random insertion of " << n_pack << " grains failed (area fraction "
       << phi_pack * shrink * shrink << " in an accessible area of " << area << " m^2)";
@@ -307,7 +382,7 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
 
   DemSystem s(system_options(c));
   const std::vector<Disk> walls = make_wall_disks(c);
-  s.set_bodies(grain_disks(c, x, y, r_ins), walls);
+  s.set_bodies(grain_disks(c, x, y, closing_wall ? r : r_ins), walls);
   if (c.intruder_diameter > 0) {  // 0: a bed without an intruder (the shear cell)
     s.set_intruder(c.intruder_position[0], c.intruder_position[1], 0.5 * c.intruder_diameter, 0,
                    0, 0, 0);
@@ -315,7 +390,12 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   // Drag rate ~ the lowest collective frequencies of the bed: stronger drag over-damps them
   // and relaxation slows down (1/(200 dt) was 7x slower than 1/(2000 dt) at Phi 0.82).
   const double damping = 1.0 / (2000.0 * c.dt);
-  if (!direct) {
+  if (closing_wall) {
+    // the compressed bed finds its force balance without friction, as after a radius growth
+    s.set_friction(0, 0);
+    relax(s, frictionless_relax_ke(c), damping);
+    s.set_friction(c.contact.friction, c.contact.intruder_friction);
+  } else if (!direct) {
     // Soft compression: frictionless radius growth from shrink to 1 with drag.
     s.set_friction(0, 0);
     s.set_background_damping(damping);

@@ -140,6 +140,14 @@ std::vector<KeySpec> make_keys() {
   k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
   k.push_back(integer("dem.field_every", "500", 1, 1e9,
                       "steps between field snapshots (after the steady state)"));
+  k.push_back(choice("dem.preparation", "\"radius_growth\"", {"radius_growth", "wall_compression"},
+                     "how a bed above Phi 0.4 is made (docs/dem-model.md): radius_growth, the "
+                     "grains inserted small and grown in place (fast); wall_compression, Kumar "
+                     "2019's: inserted at full size in a taller box whose top wall then closes "
+                     "at dem.compression_speed (needs a top wall, no side walls, y not periodic)"));
+  k.push_back(real("dem.compression_speed", false, "0.2", 0, 1e3, true, false, "m/s",
+                   "with dem.preparation = \"wall_compression\": the speed of the closing top "
+                   "wall"));
   k.push_back(real("dem.relax_ke", false, "1e-9", 0, 1e3, true, false, "J",
                    "packing is relaxed until the mean kinetic energy per grain is below this"));
   {

@@ -515,6 +515,8 @@ Case build_case(const toml::table& root) {
   dm.sample_every = int(get_int(r, "dem.sample_every"));
   dm.field_every = int(get_int(r, "dem.field_every"));
   dm.relax_ke = get_real(r, "dem.relax_ke");
+  dm.preparation = get_text(r, "dem.preparation");
+  dm.compression_speed = get_real(r, "dem.compression_speed");
   dm.packing_cache = get_text(r, "dem.packing_cache");
   auto& cn = c.continuum;
   cn.ambient_pressure = get_real(r, "continuum.ambient_pressure");

@@ -16,6 +16,12 @@ enum class ContactLaw {
 };
 
 /// Material parameters of the contact law (a "species"; per-contact history lives elsewhere).
+/// How a dense bed is made (packing.cc, docs/dem-model.md "Bed preparation").
+enum class Preparation {
+  radius_growth,     ///< inserted at reduced radii, frictionless growth in place (fast)
+  wall_compression   ///< Kumar 2019: full size in a taller box, the top wall closes slowly
+};
+
 struct ContactParams {
   ContactLaw law = ContactLaw::kumar2019;
   double kn = 2e9;        ///< Pa, Kumar Table I (F_n = sqrt(R_eff delta) Kn delta)
@@ -80,6 +86,10 @@ struct DemConfig {
   int sample_every = 50;           ///< steps between force samples
   int threads = 1;
   double relax_ke_per_grain = 1e-9;  ///< J: packing relaxed until mean KE per grain is below
+  /// how a bed above Phi 0.4 is made (packing.h): radius growth in place, or Kumar 2019's
+  /// closing top wall at compression_speed (m/s)
+  Preparation preparation = Preparation::radius_growth;
+  double compression_speed = 0.2;
   std::string packing_cache_dir;   ///< where prepared beds are saved and reused ("" = no cache)
   FieldGridSpec fields;            ///< coarse-grained fields (off: bit-identical forces)
   int field_every = 500;           ///< steps between field snapshots (after the steady state)

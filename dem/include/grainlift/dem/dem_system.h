@@ -163,6 +163,10 @@ class DemSystem {
   /// frozen disks under the force the grains exert on them (stage 3, see dem_system.cc). Keeps
   /// the per-pair forces (the lid's force is read from them).
   void attach_lid(const PressureLid& lid);
+  /// @brief Move the frozen disks [begin, end) (indices among all bodies: grains first) by
+  /// (dx, dy) m, wrapped into the box, with (vx, vy) m/s as their velocity in the contact law
+  /// (a prescribed wall; the lid and the bed preparation's closing wall use it).
+  void move_frozen(int begin, int end, double dx, double dy, double vx, double vy);
   /// The lid, or nullptr without one.
   const PressureLid* lid() const { return lid_ ? &*lid_ : nullptr; }
   /// @brief Force (N; x, y) of the grains on the frozen disks [begin, end) at the last step,
@@ -261,9 +265,6 @@ class DemSystem {
   /// The clock, and the intruder's drift of the next step unless @p last (its displacement
   /// since the build into @p intruder_disp).
   void advance_clock(bool last, double& intruder_disp);
-  /// Move the frozen disks [begin, end) by (dx, dy) (m; x wrapped in a periodic box), with the
-  /// velocity (vx, vy) (m/s) in the contact law.
-  void move_frozen(int begin, int end, double dx, double dy, double vx, double vy);
   /// The free-disk lid: each frozen disk j of [begin, end) moves by (dx, dy[j - begin]) and
   /// carries (vx, vy[j - begin]).
   void move_frozen_each(int begin, int end, double dx, const std::vector<double>& dy, double vx,

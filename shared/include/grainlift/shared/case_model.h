@@ -72,6 +72,8 @@ struct DemSection {
   long long checkpoint_steps{};  ///< steps between checkpoints (0: by time only)
   double sleep_speed{};      ///< fraction of |V0| below which a grain may sleep
   double relax_ke{};       ///< J per grain
+  std::string preparation;  ///< "radius_growth" | "wall_compression" (packing.h)
+  double compression_speed{};  ///< m/s, the top wall's speed in wall_compression
   std::string packing_cache;
 };
 
