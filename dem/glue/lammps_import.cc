@@ -22,6 +22,12 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// A problem on the last line of a file: a LAMMPS run stopped while writing it. The reader
+/// keeps what came before (the import is then partial).
+struct Truncated : InputError {
+  using InputError::InputError;
+};
+
 /// Reads a file line by line, naming file and line in every error.
 class LineReader {
  public:
@@ -35,11 +41,14 @@ class LineReader {
     ++line_;
     return true;
   }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(fmt::format("{}:{}: {}", path_, line_, what));
+  /// Throws Truncated for a problem on the file's last line (or past it), else InputError.
+  [[noreturn]] void fail(const std::string& what) {
+    const std::string m = fmt::format("{}:{}: {}", path_, line_, what);
+    if (in_.peek() == std::char_traits<char>::eof()) throw Truncated(m);
+    throw InputError(m);
   }
   /// The whitespace-separated numbers of @p l; exactly @p n of them, all finite.
-  std::vector<double> numbers(const std::string& l, std::size_t n) const {
+  std::vector<double> numbers(const std::string& l, std::size_t n) {
     std::istringstream s(l);
     std::vector<double> v;
     std::string w;
@@ -66,16 +75,21 @@ struct ForceRow {
   double time = 0, fx = 0, fy = 0, torque = 0;
 };
 
-std::vector<ForceRow> read_forces(const std::string& path) {
+/// forces.txt; a last line cut short is left out and described in @p tail.
+std::vector<ForceRow> read_forces(const std::string& path, std::string& tail) {
   LineReader r(path);
   std::vector<ForceRow> rows;
   std::string l;
-  while (r.next(l)) {
-    if (l.empty() || l[0] == '#') continue;
-    const auto v = r.numbers(l, 5);
-    ForceRow f{static_cast<long long>(v[0]), v[1], v[2], v[3], v[4]};
-    if (!rows.empty() && f.step <= rows.back().step) r.fail("steps are not increasing");
-    rows.push_back(f);
+  try {
+    while (r.next(l)) {
+      if (l.empty() || l[0] == '#') continue;
+      const auto v = r.numbers(l, 5);
+      ForceRow f{static_cast<long long>(v[0]), v[1], v[2], v[3], v[4]};
+      if (!rows.empty() && f.step <= rows.back().step) r.fail("steps are not increasing");
+      rows.push_back(f);
+    }
+  } catch (const Truncated& t) {
+    tail = t.what();
   }
   return rows;
 }
@@ -89,14 +103,17 @@ using StepContacts = std::vector<IntruderContact>;
 /// tangential force on atom 1 and its magnitude (LAMMPS 2021's pair/local has no separation
 /// vector). The intruder's pairs (id @p intruder) with a force become contacts.
 std::map<long long, StepContacts> read_contacts(const std::string& path, long long intruder,
-                                                double mu) {
+                                                double mu, std::string& tail) {
   LineReader r(path);
   std::map<long long, StepContacts> out;
   std::string l;
+  long long step = -1;
+  try {  // the loop below is the try's body (not indented again)
   while (r.next(l)) {
+    step = -1;
     if (l.rfind("ITEM: TIMESTEP", 0) != 0) r.fail("expected 'ITEM: TIMESTEP'");
     if (!r.next(l)) r.fail("truncated after ITEM: TIMESTEP");
-    const long long step = static_cast<long long>(r.numbers(l, 1)[0]);
+    step = static_cast<long long>(r.numbers(l, 1)[0]);
     if (!r.next(l) || l.rfind("ITEM: NUMBER OF ENTRIES", 0) != 0)
       r.fail("expected 'ITEM: NUMBER OF ENTRIES'");
     if (!r.next(l)) r.fail("truncated");
@@ -129,6 +146,10 @@ std::map<long long, StepContacts> read_contacts(const std::string& path, long lo
       c.slipping = mu > 0 && fshear >= mu * std::abs(fnormal) * (1 - 1e-9);
       cs.push_back(c);
     }
+  }
+  } catch (const Truncated& t) {
+    if (step >= 0) out.erase(step);  // the block cut short
+    tail = t.what();
   }
   return out;
 }
@@ -165,8 +186,15 @@ RunResult import_lammps(const Case& c, const std::string& dir) {
   const DemConfig cfg = make_dem_config(c, 1);
   const long long grains = manifest_count(dir, "grains"), walls = manifest_count(dir, "walls");
   const long long intruder = grains + walls + 1;
-  const std::vector<ForceRow> rows = read_forces(dir + "/" + kLammpsForces);
-  const auto contacts = read_contacts(dir + "/" + kLammpsContacts, intruder, cfg.contact.friction);
+  std::string forces_tail, contacts_tail;
+  std::vector<ForceRow> rows = read_forces(dir + "/" + kLammpsForces, forces_tail);
+  const auto contacts =
+      read_contacts(dir + "/" + kLammpsContacts, intruder, cfg.contact.friction, contacts_tail);
+  // a run stopped while writing: the samples up to the last step both files hold in full
+  if (!contacts_tail.empty()) {
+    const long long last = contacts.empty() ? 0 : contacts.rbegin()->first;
+    while (!rows.empty() && rows.back().step > last) rows.pop_back();
+  }
 
   DemOutput out;
   out.grains = static_cast<int>(grains);
@@ -245,6 +273,12 @@ RunResult import_lammps(const Case& c, const std::string& dir) {
   if (out.steps < out.planned_steps) r.meta.partial = true;
   if (missing > 0)
     r.meta.notes += fmt::format("; WARNING: {} samples have no contact dump", missing);
+  for (const std::string& tail : {forces_tail, contacts_tail}) {
+    if (tail.empty()) continue;
+    r.meta.partial = true;
+    r.meta.notes += fmt::format(
+        "; the LAMMPS output ends mid-write: read up to its last complete sample ({})", tail);
+  }
   r.diagnostics.values["lammps_loop_seconds"] = loop.seconds;
   r.diagnostics.values["lammps_contact_force_mismatch"] = relative;
   r.diagnostics.counts["lammps_processes"] = loop.procs;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "grainlift/shared/compare.h"
@@ -153,4 +154,58 @@ TEST(LammpsBridge, ExportRefusesALidAndImportRefusesAFolderWithoutARun) {
   o = test_support::run_grainlift("import lammps " + d.string() + " --out " + (d / "out").string());
   EXPECT_EQ(o.code, 2) << o.output;
   EXPECT_NE(o.output.find("export.txt"), std::string::npos) << o.output;
+}
+
+// A LAMMPS run stopped while writing (the last dump block cut short) imports as a partial
+// result up to its last complete sample; a malformed line before the end is refused with its
+// file and line. LAMMPS's outputs are written here by hand (no lmp needed): three samples, the
+// third cut off in the middle of its contact entry.
+TEST(LammpsBridge, RunStoppedMidWriteImportsAsPartialUpToItsLastSample) {
+  const fs::path d = scratch("cut");
+  const fs::path exp = d / "lammps";
+  auto o = test_support::run_grainlift("export lammps " + (d / "tiny.toml").string() + " " +
+                                       exp.string() + " --set output.fields=false");
+  ASSERT_EQ(o.code, 0) << o.output;
+  long long grains = 0, walls = 0;
+  {
+    std::ifstream m(exp / "export.txt");
+    std::string key;
+    long long v;
+    std::string line;
+    while (std::getline(m, line)) {
+      std::istringstream s(line);
+      if (s >> key >> v) {
+        if (key == "grains") grains = v;
+        if (key == "walls") walls = v;
+      }
+    }
+  }
+  ASSERT_GT(grains, 0);
+  const long long intruder = grains + walls + 1;
+  // one grain pressing on the intruder from +x: normal force on the intruder -1 N/m along x
+  const std::string entry = std::to_string(intruder) + " 1 0.06 -1 0 -1 0 0 0\n";
+  auto block = [&](int step) {
+    return "ITEM: TIMESTEP\n" + std::to_string(step) + "\nITEM: NUMBER OF ENTRIES\n1\n"
+           "ITEM: BOX BOUNDS pp ff pp\n0 1\n0 1\n0 1\nITEM: ENTRIES a b c d e f g h i\n" + entry;
+  };
+  std::ofstream(exp / "forces.txt") << "# fix\n# step t fx fy tq\n0 0 0 0 0\n20 4e-05 -1 0 0\n"
+                                       "40 8e-05 -1 0 0\n60 0.00012 -1 0 0\n";
+  std::string dump = block(0) + block(20) + block(40) + block(60);
+  dump.resize(dump.size() - 12);  // the last entry cut short
+  std::ofstream(exp / "contacts.dump") << dump;
+  o = test_support::run_grainlift("import lammps " + exp.string() + " --out " +
+                                  (d / "out").string());
+  ASSERT_EQ(o.code, 0) << o.output;
+  const RunResult r = read_result((d / "out" / "dem.h5").string());
+  EXPECT_TRUE(r.meta.partial);
+  ASSERT_TRUE(r.forces);
+  EXPECT_EQ(r.forces->time.size(), 2u);  // steps 20 and 40
+  EXPECT_EQ(r.forces->contacts[1], 1.0);
+  EXPECT_NE(r.meta.notes.find("mid-write"), std::string::npos) << r.meta.notes;
+  // the same damage before the end is a bad file
+  std::ofstream(exp / "contacts.dump") << block(0) + "garbage\n" + block(20);
+  o = test_support::run_grainlift("import lammps " + exp.string() + " --out " +
+                                  (d / "out2").string());
+  EXPECT_EQ(o.code, 2) << o.output;
+  EXPECT_NE(o.output.find("contacts.dump:"), std::string::npos) << o.output;
 }
