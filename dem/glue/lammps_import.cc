@@ -108,45 +108,45 @@ std::map<long long, StepContacts> read_contacts(const std::string& path, long lo
   std::map<long long, StepContacts> out;
   std::string l;
   long long step = -1;
-  try {  // the loop below is the try's body (not indented again)
-  while (r.next(l)) {
-    step = -1;
-    if (l.rfind("ITEM: TIMESTEP", 0) != 0) r.fail("expected 'ITEM: TIMESTEP'");
-    if (!r.next(l)) r.fail("truncated after ITEM: TIMESTEP");
-    step = static_cast<long long>(r.numbers(l, 1)[0]);
-    if (!r.next(l) || l.rfind("ITEM: NUMBER OF ENTRIES", 0) != 0)
-      r.fail("expected 'ITEM: NUMBER OF ENTRIES'");
-    if (!r.next(l)) r.fail("truncated");
-    const double count = r.numbers(l, 1)[0];
-    if (count < 0 || count > 1e8) r.fail("implausible entry count");
-    if (!r.next(l) || l.rfind("ITEM: BOX BOUNDS", 0) != 0) r.fail("expected 'ITEM: BOX BOUNDS'");
-    for (int k = 0; k < 3; ++k)
-      if (!r.next(l)) r.fail("truncated box bounds");
-    if (!r.next(l) || l.rfind("ITEM: ENTRIES", 0) != 0) r.fail("expected 'ITEM: ENTRIES'");
-    StepContacts& cs = out[step];
-    for (long long e = 0; e < static_cast<long long>(count); ++e) {
-      if (!r.next(l)) r.fail("truncated: fewer entries than announced");
-      const auto v = r.numbers(l, 9);
-      const long long a = static_cast<long long>(v[0]), b = static_cast<long long>(v[1]);
-      if (a != intruder && b != intruder) continue;
-      const double fnormal = v[5], fshear = v[8];
-      // a pair within the cut-off without a normal force carries no force at all (|F_t| is
-      // capped by mu |F_n|) and has no direction in the dump
-      if (fnormal == 0) continue;
-      // force on atom a; the intruder's is its opposite when the intruder is b
-      const double sign = a == intruder ? 1.0 : -1.0;
-      const double Fx = sign * (v[3] + v[6]), Fy = sign * (v[4] + v[7]);
-      // unit normal from the intruder to the grain: -(x_a - x_b)/|.| when a is the intruder
-      const double nx = -sign * v[3] / fnormal, ny = -sign * v[4] / fnormal;
-      IntruderContact c;
-      c.theta = std::atan2(ny, nx);
-      if (c.theta <= -kPi) c.theta = kPi;
-      c.fn = -(Fx * nx + Fy * ny);
-      c.ft = -Fx * ny + Fy * nx;
-      c.slipping = mu > 0 && fshear >= mu * std::abs(fnormal) * (1 - 1e-9);
-      cs.push_back(c);
+  try {
+    while (r.next(l)) {
+      step = -1;
+      if (l.rfind("ITEM: TIMESTEP", 0) != 0) r.fail("expected 'ITEM: TIMESTEP'");
+      if (!r.next(l)) r.fail("truncated after ITEM: TIMESTEP");
+      step = static_cast<long long>(r.numbers(l, 1)[0]);
+      if (!r.next(l) || l.rfind("ITEM: NUMBER OF ENTRIES", 0) != 0)
+        r.fail("expected 'ITEM: NUMBER OF ENTRIES'");
+      if (!r.next(l)) r.fail("truncated");
+      const double count = r.numbers(l, 1)[0];
+      if (count < 0 || count > 1e8) r.fail("implausible entry count");
+      if (!r.next(l) || l.rfind("ITEM: BOX BOUNDS", 0) != 0) r.fail("expected 'ITEM: BOX BOUNDS'");
+      for (int k = 0; k < 3; ++k)
+        if (!r.next(l)) r.fail("truncated box bounds");
+      if (!r.next(l) || l.rfind("ITEM: ENTRIES", 0) != 0) r.fail("expected 'ITEM: ENTRIES'");
+      StepContacts& cs = out[step];
+      for (long long e = 0; e < static_cast<long long>(count); ++e) {
+        if (!r.next(l)) r.fail("truncated: fewer entries than announced");
+        const auto v = r.numbers(l, 9);
+        const long long a = static_cast<long long>(v[0]), b = static_cast<long long>(v[1]);
+        if (a != intruder && b != intruder) continue;
+        const double fnormal = v[5], fshear = v[8];
+        // a pair within the cut-off without a normal force carries no force at all (|F_t| is
+        // capped by mu |F_n|) and has no direction in the dump
+        if (fnormal == 0) continue;
+        // force on atom a; the intruder's is its opposite when the intruder is b
+        const double sign = a == intruder ? 1.0 : -1.0;
+        const double Fx = sign * (v[3] + v[6]), Fy = sign * (v[4] + v[7]);
+        // unit normal from the intruder to the grain: -(x_a - x_b)/|.| when a is the intruder
+        const double nx = -sign * v[3] / fnormal, ny = -sign * v[4] / fnormal;
+        IntruderContact c;
+        c.theta = std::atan2(ny, nx);
+        if (c.theta <= -kPi) c.theta = kPi;
+        c.fn = -(Fx * nx + Fy * ny);
+        c.ft = -Fx * ny + Fy * nx;
+        c.slipping = mu > 0 && fshear >= mu * std::abs(fnormal) * (1 - 1e-9);
+        cs.push_back(c);
+      }
     }
-  }
   } catch (const Truncated& t) {
     if (step >= 0) out.erase(step);  // the block cut short
     tail = t.what();
