@@ -9,7 +9,8 @@ area fraction of the central band and of the first ring round the intruder) and 
 means per protocol (error = bed-to-bed standard deviation / sqrt(beds)).
 
     scripts/preparation_study.py build/bin/grainlift WORK [--phi 0.8 0.818] [--omega 0 5]
-        [--seeds 1 2 3] [--protocols radius_growth wall_compression] [--doc FILE --marker M]
+        [--seeds 1 2 3] [--protocols radius_growth wall_compression] [--set KEY=VALUE ...]
+        [--doc FILE --marker M]
 """
 import argparse
 import json
@@ -57,6 +58,9 @@ def main():
     ap.add_argument("--omega", type=float, nargs="+", default=[0.0, 5.0])
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--protocols", nargs="+", default=["radius_growth", "wall_compression"])
+    ap.add_argument("--set", dest="extra", action="append", default=[],
+                    help="a case override for every run (repeatable), e.g. "
+                         "dem.compression_speed=0.05")
     ap.add_argument("--doc")
     ap.add_argument("--marker", default="preparation")
     a = ap.parse_args()
@@ -69,7 +73,7 @@ def main():
                     out = os.path.join(a.work, f"phi{phi}_omega{omega:g}_{prot}_seed{seed}")
                     sets = [f"grains.area_fraction={phi}", "intruder.velocity=[0.25,0.0]",
                             f"intruder.omega={omega}", "dem.travel=30", "dem.steady_travel=12.5",
-                            f"dem.seed={seed}", f"dem.preparation={prot}"]
+                            f"dem.seed={seed}", f"dem.preparation={prot}"] + a.extra
                     cmd = [a.grainlift, "run", case, "--solver", "dem", "--threads", "1",
                            "--quiet", "--out", out] + [x for s in sets for x in ("--set", s)]
                     rc = subprocess.call(cmd, stdout=subprocess.DEVNULL,
