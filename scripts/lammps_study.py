@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """grainlift's DEM against LAMMPS on the same exported beds (docs/lammps.md, issue 16).
 
 For each area fraction, spin and seed: `grainlift export lammps` writes the bed and script,
@@ -24,6 +24,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pool_beds import mean_and_between  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 CASES = {0.35: "cases/kumar2019/reduced_phi035.toml", 0.8: "cases/kumar2019/reduced_phi080.toml"}
@@ -41,13 +44,6 @@ def timed(cmd, cwd=None, log=None):
 
 def dem_summary(folder):
     return json.load(open(os.path.join(folder, "summary.json")))["dem"]
-
-
-def pooled(values):
-    n = len(values)
-    m = sum(values) / n
-    sd = math.sqrt(sum((v - m) ** 2 for v in values) / (n - 1)) if n > 1 else float("nan")
-    return m, sd / math.sqrt(n)
 
 
 def main():
@@ -122,12 +118,12 @@ def main():
                "grainlift lift | diff/err | LAMMPS L/D | grainlift L/D | time ratio |")
     out.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for (phi, omega), rs in pools.items():
-        ld, le = pooled([r["L"]["drag"] for r in rs])
-        gd, ge = pooled([r["G"]["drag"] for r in rs])
-        ll, lle = pooled([r["L"]["lift"] for r in rs])
-        gll, gle = pooled([r["G"]["lift"] for r in rs])
-        lr, _ = pooled([r["L"]["lift"] / r["L"]["drag"] for r in rs])
-        gr, _ = pooled([r["G"]["lift"] / r["G"]["drag"] for r in rs])
+        ld, le = mean_and_between([r["L"]["drag"] for r in rs])
+        gd, ge = mean_and_between([r["G"]["drag"] for r in rs])
+        ll, lle = mean_and_between([r["L"]["lift"] for r in rs])
+        gll, gle = mean_and_between([r["G"]["lift"] for r in rs])
+        lr, _ = mean_and_between([r["L"]["lift"] / r["L"]["drag"] for r in rs])
+        gr, _ = mean_and_between([r["G"]["lift"] / r["G"]["drag"] for r in rs])
         dz = (ld - gd) / math.hypot(le, ge) if math.hypot(le, ge) > 0 else float("nan")
         lz = (ll - gll) / math.hypot(lle, gle) if math.hypot(lle, gle) > 0 else float("nan")
         tr = sum(r["t_lmp"] for r in rs) / sum(r["t_gl"] for r in rs)

@@ -26,6 +26,13 @@ def pooled_error(values, errors):
     return max(within, between if between == between else 0.0), between, within
 
 
+def mean_and_between(values):
+    """(mean, between-bed standard error std(ddof=1) / sqrt(N)) of N bed values; nan error for
+    one bed. The studies that compare beds by their spread alone (lammps_study.py,
+    preparation_study.py) use this."""
+    return float(np.mean(values)), pooled_error(values, [0.0] * len(values))[1]
+
+
 def pool(members):
     """One run dict from the runs of one scene on N beds (read_run dicts): scalars and
     surface/field arrays averaged, errors as in the module docstring; 'beds' = N, and for each

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Forces against the bed-preparation protocol (issue 17, docs/results-kumar2019.md).
 
 Runs the reduced Kumar case (V0 0.25 m/s, 30 d of travel, means over 12.5-30 d) with
@@ -14,12 +14,14 @@ means per protocol (error = bed-to-bed standard deviation / sqrt(beds)).
 """
 import argparse
 import json
-import math
 import os
 import subprocess
 import sys
 
 import h5py  # python3-h5py (scripts/install-deps)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pool_beds import mean_and_between  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -41,13 +43,6 @@ def fingerprint(h5):
         ring = list(b["ring_area_fraction"][:])
         return dict(z=b.attrs["contacts_per_grain"], near=near, centre=centre, ring1=ring[0],
                     ring3=sum(ring[:3]) / 3)
-
-
-def pooled(v):
-    n = len(v)
-    m = sum(v) / n
-    sd = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1)) if n > 1 else float("nan")
-    return m, sd / math.sqrt(n)
 
 
 def main():
@@ -102,11 +97,11 @@ def main():
           "| Phi | Omega | protocol | beds | drag | lift | L/D | centre bands | ring 1 |",
           "|---|---|---|---|---|---|---|---|---|"]
     for (phi, omega, prot), rs in pools.items():
-        d, de = pooled([r["s"]["drag"] for r in rs])
-        l, le = pooled([r["s"]["lift"] for r in rs])
-        ld, _ = pooled([r["s"]["lift"] / r["s"]["drag"] for r in rs])
-        c, _ = pooled([r["fp"]["centre"] for r in rs])
-        g, _ = pooled([r["fp"]["ring1"] for r in rs])
+        d, de = mean_and_between([r["s"]["drag"] for r in rs])
+        l, le = mean_and_between([r["s"]["lift"] for r in rs])
+        ld, _ = mean_and_between([r["s"]["lift"] / r["s"]["drag"] for r in rs])
+        c, _ = mean_and_between([r["fp"]["centre"] for r in rs])
+        g, _ = mean_and_between([r["fp"]["ring1"] for r in rs])
         t.append(f"| {phi} | {omega:g} | {prot} | {len(rs)} | {d:.3g} +- {de:.2g} | {l:.3g} +- "
                  f"{le:.2g} | {ld:.3f} | {c:.3f} | {g:.3f} |")
     text = "\n".join(t) + "\n"
