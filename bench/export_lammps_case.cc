@@ -16,6 +16,7 @@
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/packing.h"
+#include "grainlift/dem/simulation.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/dem/lammps_bridge.h"
@@ -102,8 +103,7 @@ int main(int argc, char** argv) {
     // the step count and steady start as run_simulation computes them
     const double d = c.grain_diameter;
     const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-    const long long steps =
-        static_cast<long long>(std::ceil(c.travel * d / (speed * c.dt) - 1e-9));
+    const long long steps = gd::travel_steps(c);
     std::printf("# grains %zu (walls %zu), area fraction %.4f, packing %s\n", bed.r.size(),
                 walls.size(), bed.area_fraction, bed.from_cache ? "reused from cache" : "prepared");
     std::printf("-var data %s\n", out_path.c_str());

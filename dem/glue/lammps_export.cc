@@ -124,9 +124,8 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
   ex.walls = walls.size();
   ex.area_fraction = bed.area_fraction;
   ex.packing_from_cache = bed.from_cache;
-  const double d = c.grain_diameter;
   const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-  ex.steps = static_cast<long long>(std::ceil(c.travel * d / (speed * c.dt) - 1e-9));
+  ex.steps = travel_steps(c);
   double rmax = 0, rgrain = 0;
   for (double r : bed.r) rgrain = std::max(rgrain, r);
   rmax = rgrain;

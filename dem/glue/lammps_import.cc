@@ -172,20 +172,16 @@ LoopTime read_loop_time(const std::string& path) {
   return t;
 }
 
-long long manifest_count(const std::string& dir, const std::string& key) {
-  std::ifstream m(dir + "/" + kExportManifest);
-  std::string l;
-  while (std::getline(m, l))
-    if (l.rfind(key + " ", 0) == 0) return std::atoll(l.c_str() + key.size() + 1);
-  return 0;
-}
 
 }  // namespace
 
 RunResult import_lammps(const Case& c, const std::string& dir) {
   const DemConfig cfg = make_dem_config(c, 1);
-  const long long grains = manifest_count(dir, "grains"), walls = manifest_count(dir, "walls");
-  const long long intruder = grains + walls + 1;
+  // the exported bed: the same packing (the cache, or prepared again from the same seed), its
+  // counts (the intruder is the atom after the grains and wall disks) and its structure
+  const PackedBed bed = prepare_packing(packing_config(cfg));
+  const std::vector<Disk> walls = make_wall_disks(cfg);
+  const long long intruder = static_cast<long long>(bed.r.size() + walls.size()) + 1;
   std::string forces_tail, contacts_tail;
   std::vector<ForceRow> rows = read_forces(dir + "/" + kLammpsForces, forces_tail);
   const auto contacts =
@@ -197,23 +193,12 @@ RunResult import_lammps(const Case& c, const std::string& dir) {
   }
 
   DemOutput out;
-  out.grains = static_cast<int>(grains);
-  out.wall_grains = static_cast<int>(walls);
-  out.planned_steps = manifest_count(dir, "steps");
-  {
-    std::ifstream m(dir + "/" + kExportManifest);
-    std::string l;
-    while (std::getline(m, l)) {
-      if (l.rfind("area_fraction ", 0) == 0) out.achieved_area_fraction = std::atof(l.c_str() + 14);
-      if (l.rfind("packing_from_cache ", 0) == 0) out.packing_from_cache = l.back() == '1';
-    }
-  }
-  // the structure of the exported bed: the same packing (cache, or prepared again from the
-  // same seed)
-  {
-    const PackedBed bed = prepare_packing(packing_config(cfg));
-    out.bed = bed_fingerprint(cfg, bed, make_wall_disks(cfg));
-  }
+  out.grains = static_cast<int>(bed.r.size());
+  out.wall_grains = static_cast<int>(walls.size());
+  out.planned_steps = travel_steps(cfg);
+  out.achieved_area_fraction = bed.area_fraction;
+  out.packing_from_cache = bed.from_cache;
+  out.bed = bed_fingerprint(cfg, bed, walls);
   const double speed = std::hypot(cfg.intruder_velocity[0], cfg.intruder_velocity[1]);
   const double steady_time = cfg.steady_travel * cfg.grain_diameter / speed;
   out.steady_start_index = static_cast<std::size_t>(-1);

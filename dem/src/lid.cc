@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
@@ -33,12 +34,7 @@ PressureLid::PressureLid(const DemConfig& c, const DemSystem& s, double shear_ve
   // The top wall disks: centres at ymax - d/2 (make_wall_disks puts them in one run).
   const std::vector<Disk> walls = make_wall_disks(c);
   const double y_top = c.ymax - 0.5 * c.grain_diameter;
-  begin_ = end_ = -1;
-  for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
-    if (walls[k].y != y_top) continue;
-    if (begin_ < 0) begin_ = k;
-    end_ = k + 1;
-  }
+  std::tie(begin_, end_) = wall_row(walls, y_top);
   if (begin_ < 0 || s.frozen() != static_cast<int>(walls.size())) {
     throw ConfigError("the pressure lid found no top wall among the frozen disks");
   }

@@ -172,26 +172,15 @@ void compress_with_wall(const DemConfig& c, const std::vector<double>& r, std::m
                    0, 0, 0);
   s.set_friction(0, 0);
   s.set_background_damping(1.0 / (2000.0 * c.dt));
-  // the bottom and top rows of wall disks (make_wall_disks puts each in one run)
-  auto row_of = [&](double yc, int& begin, int& end) {
-    begin = end = -1;
-    for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
-      if (walls[k].y != yc) continue;
-      if (begin < 0) begin = k;
-      end = k + 1;
-    }
-    begin += s.grains();
-    end += s.grains();
-  };
-  int b0, b1, t0, t1;
-  row_of(tall.ymin + 0.5 * c.grain_diameter, b0, b1);
-  row_of(tall.ymax - 0.5 * c.grain_diameter, t0, t1);
+  // the bottom and top rows of wall disks, as indices among all bodies (grains first)
+  const auto [b0, b1] = wall_row(walls, tall.ymin + 0.5 * c.grain_diameter);
+  const auto [t0, t1] = wall_row(walls, tall.ymax - 0.5 * c.grain_diameter);
   const double drop = tall.ymax - c.ymax;
   const long steps = std::max(1L, static_cast<long>(std::ceil(drop / (c.compression_speed * c.dt))));
   const double dy = drop / static_cast<double>(steps);
   for (long k = 0; k < steps; ++k) {
-    s.move_frozen(b0, b1, 0.0, dy, 0.0, dy / c.dt);
-    s.move_frozen(t0, t1, 0.0, -dy, 0.0, -dy / c.dt);
+    s.move_frozen(s.grains() + b0, s.grains() + b1, 0.0, dy, 0.0, dy / c.dt);
+    s.move_frozen(s.grains() + t0, s.grains() + t1, 0.0, -dy, 0.0, -dy / c.dt);
     s.step();
     if (k % std::max(1L, steps / 20) == 0) report(0.6 * static_cast<double>(k) / steps);
   }
@@ -294,6 +283,16 @@ std::vector<Disk> make_wall_disks(const DemConfig& c) {
   if (c.wall_left) row(y0, y1, c.xmin + r, false);
   if (c.wall_right) row(y0, y1, c.xmax - r, false);
   return w;
+}
+
+std::pair<int, int> wall_row(const std::vector<Disk>& walls, double y) {
+  int first = -1, last = -1;
+  for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
+    if (walls[k].y != y) continue;
+    if (first < 0) first = k;
+    last = k + 1;
+  }
+  return {first, last};
 }
 
 std::uint64_t packing_hash(const DemConfig& c) {

@@ -111,6 +111,11 @@ double validate_config(const DemConfig& c) {
   return tc;
 }
 
+long long travel_steps(const DemConfig& c) {
+  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
+  return static_cast<long long>(std::ceil(c.travel * c.grain_diameter / (speed * c.dt) - 1e-9));
+}
+
 DemConfig packing_config(const DemConfig& cfg) {
   DemConfig packing = cfg;
   packing.dt = std::min(cfg.dt, 0.1 * validate_config(cfg));
@@ -206,7 +211,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   out.wall_grains = s.frozen();
 
   const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-  const long long n_steps = static_cast<long long>(std::ceil(c.travel * d / (speed * c.dt) - 1e-9));
+  const long long n_steps = travel_steps(c);
   const double steady_time = c.steady_travel * d / speed;
   const long long progress_every = std::max(1LL, n_steps / 100);
   // energy growth (a numerical instability): the grains' kinetic energy above that of all of

@@ -83,20 +83,7 @@ RunResult full_result(std::size_t n_samples = 100) {
   g.velocity_y = std::vector<double>{0, 0, 0, 0, 0, NAN};
   g.area_fraction = std::vector<double>{0.8, 0.8, 0.7, 0.6, 0.5, 0.4};
   r.fields = g;  // no stress, no pressure, no temperature: must stay absent
-  BedStructure bed;
-  bed.contacts_per_grain = 0.17;
-  bed.rattler_fraction = 0.93;
-  bed.fabric_xx = 0.48;
-  bed.fabric_xy = -0.01;
-  bed.fabric_yy = 0.52;
-  bed.mean_gap = 0.12;
-  bed.gap_edges = {-0.05, 0.0, 0.01, 0.1};
-  bed.gap_fraction = {0.1, 0.5, 0.4};
-  bed.band_y = {0.01, 0.03};
-  bed.band_area_fraction = {0.79, 0.81};
-  bed.ring_r = {0.06};
-  bed.ring_area_fraction = {0.7};
-  r.bed = bed;
+  r.bed = grainlift::test_support::sample_bed();
   return r;
 }
 

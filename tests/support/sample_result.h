@@ -31,4 +31,22 @@ inline RunResult sample_result_head() {
   return r;
 }
 
+/// A made-up /bed (a loose bed: few contacts, most grains rattlers).
+inline BedStructure sample_bed() {
+  BedStructure bed;
+  bed.contacts_per_grain = 0.17;
+  bed.rattler_fraction = 0.93;
+  bed.fabric_xx = 0.48;
+  bed.fabric_xy = -0.01;
+  bed.fabric_yy = 0.52;
+  bed.mean_gap = 0.12;
+  bed.gap_edges = {-0.05, 0.0, 0.01, 0.1};
+  bed.gap_fraction = {0.1, 0.5, 0.4};
+  bed.band_y = {0.01, 0.03};
+  bed.band_area_fraction = {0.79, 0.81};
+  bed.ring_r = {0.06};
+  bed.ring_area_fraction = {0.7};
+  return bed;
+}
+
 }  // namespace grainlift::test_support

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "grainlift/dem/dem_config.h"
@@ -26,6 +27,10 @@ double accessible_area(const DemConfig& cfg);
 /// @brief Frozen wall disks of the mean diameter, centres d/2 inside each walled box edge,
 /// evenly spaced (spacing closest to d that tiles the edge).
 std::vector<Disk> make_wall_disks(const DemConfig& cfg);
+
+/// @brief The run [first, last) of @p walls (make_wall_disks, which puts each row in one run)
+/// whose centres are at height @p y; {-1, -1} when there is none.
+std::pair<int, int> wall_row(const std::vector<Disk>& walls, double y);
 
 /// @brief FNV-1a 64 hash of every packing-relevant field of cfg (and the seed).
 std::uint64_t packing_hash(const DemConfig& cfg);

@@ -14,6 +14,10 @@ namespace grainlift::dem {
 /// @throws ConfigError naming the offending numbers.
 double validate_config(const DemConfig& cfg);
 
+/// @brief The steps of a run of @p cfg: its travel (grain diameters) at the intruder's speed,
+/// rounded up to whole steps of cfg.dt.
+long long travel_steps(const DemConfig& cfg);
+
 /// @brief The configuration a run of @p cfg prepares its bed with: cfg with dt no larger than
 /// 0.1 of the binary collision time (validate_config), whatever dt the run itself uses, so
 /// that runs, exports and their cache entries share one bed. @throws ConfigError as
