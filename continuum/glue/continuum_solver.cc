@@ -215,6 +215,7 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
               {"inertia_used", out.inertia_used ? 1 : 0}};
   d.values = {{"initial_residual", out.initial_residual},
               {"final_relative_residual", out.final_residual},
+              {"worst_direct_residual", out.worst_direct_residual},
               {"sheared_share", out.sheared_share},
               {"ill_posed_share", out.ill_posed_share},
               {"surface_integral_fx", out.force_fx_surface},

@@ -394,6 +394,7 @@ void CylinderProblem::report_convergence() {
   out_.nonlinear_iterations = rep.picard_steps + rep.newton_steps;
   out_.linear_iterations = rep.linear_solves;
   out_.krylov_iterations = rep.krylov_iterations;
+  out_.worst_direct_residual = rep.worst_direct_residual;
   out_.initial_residual = rep.initial_residual;
   out_.final_residual = rep.initial_residual > 0 ? rep.final_residual / rep.initial_residual : 0;
   out_.residual_history = rep.residual_history;

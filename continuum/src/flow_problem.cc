@@ -4,7 +4,7 @@
 //   flow_problem.cc      construction, vector layout, run(), make_state()
 //   system_setup.cc      setup_system(), constraints, initial guess
 //   assembly.cc          assemble_system() (residual, Jacobian or Picard matrix)
-//   linear_solver.cc     solve() (UMFPACK, MUMPS or FGMRES with block_preconditioner.h)
+//   linear_solver.cc     solve() (MUMPS or FGMRES with block_preconditioner.h)
 //   nonlinear_solver.cc  solve_nonlinear() (Picard then Newton with a line search)
 //   postprocess/         boundary_forces.cc, surface_traces.cc, point_fields.cc,
 //                        ill_posed_share.cc, error_norms.cc, vtu_output.cc

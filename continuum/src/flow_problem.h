@@ -1,6 +1,6 @@
 // Internal: the deal.II finite-element engine shared by solve_flow() and the verification
 // drivers. Steady incompressible generalised-Newtonian flow, Taylor-Hood Q2-Q1, Picard then
-// Newton with a backtracking line search; linear solves direct (UMFPACK) or FGMRES with a block
+// Newton with a backtracking line search; linear solves direct (MUMPS) or FGMRES with a block
 // preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
 // The linear algebra is Trilinos' (MPI block vectors and matrices, velocity then pressure), so
 // the same code runs on a serial Triangulation (one rank) and on a distributed one (each rank
@@ -93,6 +93,8 @@ struct ProblemSetup {
 struct NonlinearReport {
   int picard_steps = 0, newton_steps = 0, linear_solves = 0;
   long krylov_iterations = 0;  ///< FGMRES iterations summed over the linear solves (amg only)
+  /// direct solves: the largest relative linear residual |A x - b| / |b| left
+  double worst_direct_residual = 0;
   double initial_residual = 0, final_residual = 0;
   /// |R_k| / |R_0| after each nonlinear step, over all calls of solve_nonlinear() in order
   /// (|R_0| the residual of the initial guess of the first call)
@@ -128,10 +130,9 @@ class FlowProblem {
   /// (@p newton) or the Picard matrix (eta frozen) into system_matrix.
   double assemble_system(const VectorType& state, bool matrix, bool newton, VectorType& residual);
   /// Solve system_matrix * update = -residual; update satisfies zero constraints. Direct
-  /// (UMFPACK), or FGMRES to |K update + residual| <= @p relative_tolerance |residual| (amg).
+  /// (MUMPS through Trilinos Amesos on the whole matrix, any number of ranks), or FGMRES to
+  /// |K update + residual| <= @p relative_tolerance |residual| (amg).
   /// Returns the number of Krylov iterations (0 for the direct solver).
-  /// Direct: UMFPACK on one rank (the matrix copied into a deal.II SparseMatrix), MUMPS
-  /// (Trilinos Amesos) on the whole matrix with more ranks.
   int solve(const VectorType& residual, VectorType& update, double relative_tolerance = 1e-12);
   /// <directory>/<basename>.vtu (one file; written with MPI I/O by all ranks together when
   /// distributed). Collective.
@@ -204,6 +205,8 @@ class FlowProblem {
   double assemble_impl(const VectorType& state, MatrixType* matrix, bool newton,
                        VectorType& residual, bool reaction_mode,
                        MatrixType* schur_mass = nullptr) const;
+  /// MUMPS on the whole matrix, its linear residual checked (linear_solver.cc).
+  void solve_direct(const VectorType& residual, VectorType& update);
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
   int solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance);
   /// Locally owned entries of the reaction -R (unconstrained volume residual) on the velocity
@@ -225,11 +228,8 @@ class FlowProblem {
   std::vector<dealii::IndexSet> owned_, relevant_;  ///< per block
   MatrixType system_matrix_;
   VectorType solution_;
-  // ---- direct solver (one rank): the matrix copied into deal.II's format for UMFPACK
-  dealii::SparsityPattern direct_sparsity_;
-  dealii::SparseMatrix<double> direct_matrix_;
-  // ---- direct solver (more ranks): MUMPS on the whole matrix
-  dealii::TrilinosWrappers::SparseMatrix direct_distributed_;
+  // ---- direct solver: MUMPS on the whole matrix (the blocks copied into it)
+  dealii::TrilinosWrappers::SparseMatrix direct_matrix_;
   // ---- block preconditioner (LinearSolver::amg)
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;

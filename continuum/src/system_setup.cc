@@ -73,15 +73,10 @@ void FlowProblem::setup_system() {
   mapping_.initialize(MappingQ<dim>(2), tria_);
   dof_handler_.distribute_dofs(fe_);
   const bool iterative = setup_.linear_solver == LinearSolver::amg;
-  const bool distributed_direct = !iterative && n_ranks() > 1;
-  if (iterative || distributed_direct) {
-    // two blocks, velocity then pressure; inside the velocity block the two components of a
-    // node stay next to each other (the cell-wise numbering), which suits ML's aggregation
-    DoFRenumbering::component_wise(dof_handler_, std::vector<unsigned int>{0, 0, 1});
-  } else {
-    DoFRenumbering::Cuthill_McKee(dof_handler_);
-    DoFRenumbering::component_wise(dof_handler_);  // u_x, then u_y, then p
-  }
+  // two blocks, velocity then pressure; inside the velocity block the two components of a
+  // node stay next to each other (the cell-wise numbering), which suits ML's aggregation (the
+  // direct solver orders the unknowns itself)
+  DoFRenumbering::component_wise(dof_handler_, std::vector<unsigned int>{0, 0, 1});
   const auto counts = DoFTools::count_dofs_per_fe_component(dof_handler_);
   n_u_ = counts[0] + counts[1];
   const types::global_dof_index n = dof_handler_.n_dofs();
@@ -95,17 +90,12 @@ void FlowProblem::setup_system() {
   DoFTools::make_sparsity_pattern(dof_handler_, sp, zero_constraints_, false);
   sp.compress();
   system_matrix_.reinit(sp);
-  if (distributed_direct) {
+  if (!iterative) {
     // MUMPS (through Amesos) takes one matrix: the blocks are copied into it for each solve
     TrilinosWrappers::SparsityPattern full(owned, owned, relevant, comm_);
     DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
     full.compress();
-    direct_distributed_.reinit(full);
-  } else if (!iterative) {
-    DynamicSparsityPattern dsp(n);
-    DoFTools::make_sparsity_pattern(dof_handler_, dsp, zero_constraints_, false);
-    direct_sparsity_.copy_from(dsp);
-    direct_matrix_.reinit(direct_sparsity_);
+    direct_matrix_.reinit(full);
   } else {
     if (setup_.schur_approximation == SchurApproximation::viscosity_mass) schur_mass_.reinit(sp);
     DoFTools::extract_constant_modes(dof_handler_, fe_.component_mask(kVelocity),

@@ -225,7 +225,7 @@ std::vector<KeySpec> make_keys() {
   k.push_back(integer("continuum.max_iterations", "50", 1, 1000, "largest number of Newton steps"));
   k.push_back(integer("continuum.picard_iterations", "5", 0, 1000, "Picard warm-up steps"));
   k.push_back(choice("continuum.linear_solver", "\"direct\"", {"direct", "amg"},
-                     "direct (UMFPACK; MUMPS under mpirun) or amg (FGMRES, block preconditioner "
+                     "direct (MUMPS) or amg (FGMRES, block preconditioner "
                      "with Trilinos AMG on the velocity block and a 1/eta-weighted pressure mass "
                      "matrix)"));
   // [output]

@@ -16,7 +16,7 @@ enum class Regularisation {
 };
 enum class WallCondition { no_slip, coulomb };
 enum class InertiaMode { off, on, automatic };
-/// direct: UMFPACK on the whole saddle-point matrix. amg: FGMRES with a block upper-triangular
+/// direct: MUMPS (Trilinos Amesos) on the whole saddle-point matrix. amg: FGMRES with a block upper-triangular
 /// preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
 enum class LinearSolver { direct, amg };
 /// Schur complement approximation S ~ B A^{-1} B^T of the amg preconditioner.
@@ -137,6 +137,8 @@ struct ContinuumOutput {
   int picard_steps = 0, newton_steps = 0;  ///< split of nonlinear_iterations
   double initial_residual = 0;            ///< |R_0| (final_residual is |R_k| / |R_0|)
   long krylov_iterations = 0;             ///< FGMRES iterations over all linear solves (amg; 0 for direct)
+  /// direct solves: the largest relative linear residual |A x - b| / |b| left (0 for amg)
+  double worst_direct_residual = 0;
   bool inertia_used = false;              ///< whether rho (u.grad)u was included
   double correction_seconds = 0;          ///< linearised gravity: time of the correction (setup + one solve)
   int continuation_splits = 0;            ///< intermediate stages inserted after a failed stage
