@@ -78,6 +78,9 @@ awk -v s="$steps" -v a="$a" -v b="$b" -v c="$c" -v d="$d" 'BEGIN {
   printf "%-10s | %9.2f %9.2f | %9.2f %9.2f\n", "lammps", c, c / s * 1e6, d, d / s * 1e6
   printf "%-10s | %8.2fx %9s | %8.2fx\n", "lmp/gl", c / a, "", d / b }'
 echo "# inner: grainlift summary.json wall_seconds (solver only), LAMMPS Loop time"
+# each repetition runs the two codes back to back: their ratio sees the same state of the host
+paired=$(for ((r = 0; r < REPS; ++r)); do awk -v a="${gw[r]}" -v c="${lw[r]}" 'BEGIN {print c / a}'; done)
+echo "# paired wall ratios lmp/gl: $(echo "$paired" | awk '{printf "%.2f ", $1}')-> median $(echo "$paired" | median | awk '{printf "%.2fx", $1}')"
 
 # physics check: the means after the steady start, LAMMPS's samples averaged as grainlift does
 python3 - "$WORK/grainlift/summary.json" "$WORK/lammps_forces.txt" "$(getvar t_steady)" \

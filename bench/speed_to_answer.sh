@@ -13,12 +13,13 @@
 #   frictionless  the saving of dem.frictionless_path on the reduced run with grains.friction = 0
 #   sleep     the saving of sleeping grains (dem.sleep, speed 0: the same bits) on the reduced
 #             dense and dilute runs and on the first 6 d of the full-size Kumar box
-#   fem       the FEM's error against time on the demo geometry, refinement 0-3, nested
-#             iteration on and off (scripts/fem_pareto.py)
+#   fem       the FEM's error against time on the demo geometry, refinement 0-4 with nested
+#             iteration, 0-3 without (scripts/fem_pareto.py)
 #   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
 #             the reduced Kumar run and cases/guillard2014/gradient.toml
 #
-# Environment: REPS (repetitions of every timed run, default 3; medians are printed: on this
+# Environment: REPS (repetitions of every timed run, default 3; the two runs of a ratio
+# alternate and the median of the paired ratios is printed, beside the medians: on this
 # 2-core VM one run of the same binary on the same case took 39 to 56 s), WORK (outputs,
 # default /tmp/grainlift_speed), PYTHON (default /usr/bin/python3), OMP_PROC_BIND / OMP_PLACES
 # (default true / cores). About 25 minutes on 2 cores with REPS=3.
@@ -40,20 +41,32 @@ export REPS
 has() { [[ " $SECTIONS " == *" $1 "* ]]; }
 wall() { "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' "$1/summary.json"; }
 median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
-# timed NAME ARGS...: the reduced run with ARGS, REPS times (output in $WORK/NAME), median wall
-# time of the solver (summary.json) into $WORK/NAME.wall. Another case: TCASE (file) and the
-# array TSET (its --set options) in place of KUMAR and KSET.
-timed() {
+# run_once NAME ARGS...: the reduced run with ARGS once (output in $WORK/NAME); its solver wall
+# time (summary.json) is appended to $WORK/NAME.walls. Another case: TCASE (file) and the array
+# TSET (its --set options) in place of KUMAR and KSET.
+run_once() {
   local name=$1; shift
-  local w=() set=("${KSET[@]}")
+  local set=("${KSET[@]}")
   [[ -n ${TSET+x} ]] && set=("${TSET[@]}")
+  sleep 1
+  "$GL" run "${TCASE:-$KUMAR}" --solver dem "${set[@]}" "$@" --out "$WORK/$name" --quiet >/dev/null
+  wall "$WORK/$name" >>"$WORK/$name.walls"
+}
+# timed_ab A B: runs A (options in the array ARGS_A) and B (ARGS_B) alternately, REPS times
+# each, so that a slow spell of this VM's host (up to 40%, minutes long) falls on both sides of
+# a ratio. Medians into $WORK/A.wall and $WORK/B.wall, the median of the paired ratios A/B
+# (each from two runs back to back) into $WORK/A.B.ratio.
+timed_ab() {
+  local a=$1 b=$2
+  rm -f "$WORK/$a.walls" "$WORK/$b.walls"
   for ((r = 0; r < REPS; ++r)); do
-    sleep 1
-    "$GL" run "${TCASE:-$KUMAR}" --solver dem "${set[@]}" "$@" --out "$WORK/$name" --quiet >/dev/null
-    w+=("$(wall "$WORK/$name")")
+    run_once "$a" "${ARGS_A[@]}"
+    run_once "$b" "${ARGS_B[@]}"
   done
-  printf '%s\n' "${w[@]}" | median >"$WORK/$name.wall"
-  echo "# $name: ${w[*]} s"
+  median <"$WORK/$a.walls" >"$WORK/$a.wall"
+  median <"$WORK/$b.walls" >"$WORK/$b.wall"
+  paste "$WORK/$a.walls" "$WORK/$b.walls" | awk '{print $1 / $2}' | median >"$WORK/$a.$b.ratio"
+  echo "# $a: $(tr '\n' ' ' <"$WORK/$a.walls")s; $b: $(tr '\n' ' ' <"$WORK/$b.walls")s; paired $a/$b: $(paste "$WORK/$a.walls" "$WORK/$b.walls" | awk '{printf "%.2f ", $1 / $2}')"
 }
 # the packing once, so that no timed run prepares it
 "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.travel=16 --out "$WORK/prep" --quiet >/dev/null
@@ -90,16 +103,17 @@ PYEOF
   else
     echo "dem_throughput not built (Google Benchmark, libbenchmark-dev): step rates skipped"
   fi
-  timed threads1 --threads 1
-  timed threads2 --threads 2
+  ARGS_A=(--threads 1) ARGS_B=(--threads 2)
+  timed_ab threads1 threads2
   "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
 import json, sys, h5py
 w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
 t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
+ratio = float(open(sys.argv[1] + ".threads2.ratio").read())
 same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
 team = h5py.File(sys.argv[2] + "/dem.h5")["diagnostics"].attrs
 print(f"whole reduced run, 2,295 grains (medians): 1 thread {t[0]:.1f} s, --threads 2 "
-      f"{t[1]:.1f} s (ratio {t[0] / t[1]:.2f}x; "
+      f"{t[1]:.1f} s (paired ratio {ratio:.2f}x; "
       f"target: never slower than one, >= 1.00x within timing noise); "
       f"steps on the team {int(team['steps_on_team'])} of {int(team['steps'])}; same bits: {same}")
 PYEOF
@@ -107,51 +121,53 @@ fi
 
 if has replicas; then
   echo; echo "## Replicas against threads (both --threads 2)"
-  timed replicas2 --threads 2 --replicas 2
-  [[ -s "$WORK/threads2.wall" ]] || timed threads2 --threads 2
-  one=$(cat "$WORK/threads2.wall"); two=$(cat "$WORK/replicas2.wall")
-  awk -v a="$one" -v b="$two" 'BEGIN {
-    printf "medians: one run on 2 threads %.1f s; 2 replicas (1 thread each) %.1f s: %.2fx the samples per wall second (target: close to 2x)\n", a, b, 2 * a / b }'
+  # the second replica's bed (seed dem.seed + 1) once, so that no timed run prepares it
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.seed=2 --set dem.travel=0.1 --set dem.steady_travel=0 \
+    --out "$WORK/prep_seed2" --quiet >/dev/null
+  ARGS_A=(--threads 2) ARGS_B=(--threads 2 --replicas 2)
+  timed_ab threads2r replicas2
+  one=$(cat "$WORK/threads2r.wall"); two=$(cat "$WORK/replicas2.wall"); r=$(cat "$WORK/threads2r.replicas2.ratio")
+  awk -v a="$one" -v b="$two" -v r="$r" 'BEGIN {
+    printf "medians: one run on 2 threads %.1f s; 2 replicas (1 thread each) %.1f s: %.2fx the samples per wall second (paired; target: close to 2x)\n", a, b, 2 * r }'
 fi
 
 if has fields; then
   echo; echo "## Fields off against on (one thread)"
-  timed fields_on --set output.fields=true
-  [[ -s "$WORK/threads1.wall" ]] || timed threads1 --threads 1
-  on=$(cat "$WORK/fields_on.wall"); off=$(cat "$WORK/threads1.wall")
-  awk -v a="$on" -v b="$off" 'BEGIN {
-    printf "medians: fields on %.1f s, off %.1f s: off saves %.0f%% (the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - b / a) }'
+  ARGS_A=(--threads 1 --set output.fields=true) ARGS_B=(--threads 1 --set output.fields=false)
+  timed_ab fields_on fields_off
+  on=$(cat "$WORK/fields_on.wall"); off=$(cat "$WORK/fields_off.wall"); r=$(cat "$WORK/fields_on.fields_off.ratio")
+  awk -v a="$on" -v b="$off" -v r="$r" 'BEGIN {
+    printf "medians: fields on %.1f s, off %.1f s: off saves %.0f%% (paired; the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - 1 / r) }'
 fi
 
 if has frictionless; then
   echo; echo "## Frictionless path against the general law (grains.friction = 0, one thread)"
   F0=(--set grains.friction=0.0)
   "$GL" run "$KUMAR" --solver dem "${KSET[@]}" "${F0[@]}" --set dem.travel=16 --out "$WORK/prep_mu0" --quiet >/dev/null
-  timed mu0_general "${F0[@]}" --set dem.frictionless_path=false
-  timed mu0_path "${F0[@]}" --set dem.frictionless_path=true
+  ARGS_A=("${F0[@]}" --set dem.frictionless_path=false) ARGS_B=("${F0[@]}" --set dem.frictionless_path=true)
+  timed_ab mu0_general mu0_path
   "$PY" - "$WORK/mu0_general" "$WORK/mu0_path" <<'PYEOF'
 import json, sys
 w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
 t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
 same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
+r = float(open(sys.argv[1] + ".mu0_path.ratio").read())
 print(f"medians: general law {t[0]:.1f} s, frictionless path {t[1]:.1f} s: saves "
-      f"{100 * (1 - t[1] / t[0]):.0f}%; same drag and lift bits: {same}")
+      f"{100 * (1 - 1 / r):.0f}% (paired); same drag and lift bits: {same}")
 PYEOF
 fi
 
 if has sleep; then
   echo; echo "## Sleeping grains (dem.sleep at speed 0) against none (one thread)"
-  timed sleep_dense_off --threads 1 --set dem.sleep=false
-  timed sleep_dense_on --threads 1 --set dem.sleep=true
+  ARGS_A=(--threads 1 --set dem.sleep=false) ARGS_B=(--threads 1 --set dem.sleep=true)
+  timed_ab sleep_dense_off sleep_dense_on
   TCASE="$ROOT/cases/kumar2019/reduced_phi035.toml"
-  timed sleep_dilute_off --threads 1 --set dem.sleep=false
-  timed sleep_dilute_on --threads 1 --set dem.sleep=true
+  timed_ab sleep_dilute_off sleep_dilute_on
   # the full-size box (61,640 grains, V0 1 m/s, Omega 2): its first 6 d; the packing once
   TCASE="$ROOT/cases/kumar2019/full_phi0818.toml"
   TSET=(--set dem.travel=6 --set dem.steady_travel=1)
   "$GL" run "$TCASE" --solver dem --set dem.travel=0.1 --set dem.steady_travel=0 --out "$WORK/prep_full" --quiet >/dev/null
-  timed sleep_full_off --threads 1 --set dem.sleep=false
-  timed sleep_full_on --threads 1 --set dem.sleep=true
+  timed_ab sleep_full_off sleep_full_on
   unset TCASE TSET
   "$PY" - "$WORK" <<'PYEOF'
 import json, sys, h5py
@@ -162,26 +178,29 @@ for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.
                   ("full", "full box Phi 0.818, first 6 d")):
     off, on = (f"{work}/sleep_{tag}_{s}" for s in ("off", "on"))
     t = [float(open(d + ".wall").read()) for d in (off, on)]
+    r = float(open(off + f".sleep_{tag}_on.ratio").read())
     w = [json.load(open(d + "/summary.json"))["dem"] for d in (off, on)]
     same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
     diag = h5py.File(on + "/dem.h5")["diagnostics"].attrs
     grains = int(h5py.File(on + "/dem.h5")["diagnostics"].attrs.get("grains", 0))
-    print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - t[1] / t[0]):.0f}% | "
+    print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - 1 / r):.0f}% | "
           f"{100 * float(diag['sleeping_fraction']):.0f}% | {int(diag['sleep_wakes'])} | {same} |")
 PYEOF
 fi
 
 if has fem; then
   echo; echo "## FEM: error against time on the demo geometry (2 threads; nested iteration on and off)"
-  for r in 0 1 2 3; do
+  # nested up to refinement 4 (177,440 unknowns, ~50 s), the whole continuation per mesh to 3
+  for r in 0 1 2 3 4; do
     "$GL" run "$ROOT/cases/demo/demo.toml" --solver fem --threads 2 --quiet \
       --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
       --set output.fields=false --out "$WORK/fem_nested_$r" >/dev/null
+    ((r == 4)) && continue
     "$GL" run "$ROOT/cases/demo/demo.toml" --solver fem --threads 2 --quiet \
       --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
       --set continuum.nested=false --set output.fields=false --out "$WORK/fem_flat_$r" >/dev/null
   done
-  "$PY" "$ROOT/scripts/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3} -- "$WORK"/fem_flat_{0,1,2,3}
+  "$PY" "$ROOT/scripts/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- "$WORK"/fem_flat_{0,1,2,3}
 fi
 
 if has error; then
