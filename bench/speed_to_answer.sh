@@ -4,6 +4,9 @@
 #
 #   bench/speed_to_answer.sh [build dir (build)] [sections ("lammps threads replicas fields error")]
 #
+#   cores     what a second core adds on this machine whatever the code (dem_core_contention:
+#             compute, cache, memory kernels alone and two side by side): the ceiling of the
+#             thread and replica ratios
 #   lammps    grainlift against LAMMPS on the whole reduced dense Kumar run from the same bed
 #             (bench/compare_lammps_production.sh; skipped with a message without `lmp`)
 #   threads   two threads against one: the step on the dense and jammed 26,000-grain beds
@@ -25,7 +28,7 @@
 # (default true / cores). About 25 minutes on 2 cores with REPS=3.
 set -euo pipefail
 BUILD=${1:-build}
-SECTIONS=${2:-"lammps threads replicas fields frictionless sleep fem error"}
+SECTIONS=${2:-"cores lammps threads replicas fields frictionless sleep fem error"}
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 WORK=${WORK:-/tmp/grainlift_speed}
@@ -72,6 +75,11 @@ timed_ab() {
 "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.travel=16 --out "$WORK/prep" --quiet >/dev/null
 
 echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
+
+if has cores; then
+  echo; echo "## What a second core adds here (any code; 2.00x = two independent cores)"
+  if [[ -x "$BUILD/bin/dem_core_contention" ]]; then "$BUILD/bin/dem_core_contention" 2; fi
+fi
 
 if has lammps; then
   echo; echo "## DEM against LAMMPS, whole production run (one thread each)"
