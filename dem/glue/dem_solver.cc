@@ -330,6 +330,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.preparation = c.dem.preparation == "wall_compression" ? Preparation::wall_compression
                                                           : Preparation::radius_growth;
   d.compression_speed = c.dem.compression_speed;
+  d.compression_drag = c.dem.compression_drag;
   d.packing_cache_dir = cache_folder(c.dem.packing_cache, "packings");
   const FieldGridLayout grid = field_grid_layout(c);
   d.fields.enabled = grid.enabled;

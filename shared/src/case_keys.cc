@@ -148,6 +148,10 @@ std::vector<KeySpec> make_keys() {
   k.push_back(real("dem.compression_speed", false, "0.2", 0, 1e3, true, false, "m/s",
                    "with dem.preparation = \"wall_compression\": the speed of the closing top "
                    "wall"));
+  k.push_back(boolean("dem.compression_drag", "true",
+                      "with dem.preparation = \"wall_compression\": the walls close under the "
+                      "relaxation's background drag (1/(2000 dt)); false: contact damping only, "
+                      "which leaves a more uniform bed (docs/results-kumar2019.md section 7)"));
   k.push_back(real("dem.relax_ke", false, "1e-9", 0, 1e3, true, false, "J",
                    "packing is relaxed until the mean kinetic energy per grain is below this"));
   {

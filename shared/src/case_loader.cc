@@ -517,6 +517,7 @@ Case build_case(const toml::table& root) {
   dm.relax_ke = get_real(r, "dem.relax_ke");
   dm.preparation = get_text(r, "dem.preparation");
   dm.compression_speed = get_real(r, "dem.compression_speed");
+  dm.compression_drag = get_bool(r, "dem.compression_drag");
   dm.packing_cache = get_text(r, "dem.packing_cache");
   auto& cn = c.continuum;
   cn.ambient_pressure = get_real(r, "continuum.ambient_pressure");

@@ -90,6 +90,9 @@ struct DemConfig {
   /// closing top wall at compression_speed (m/s)
   Preparation preparation = Preparation::radius_growth;
   double compression_speed = 0.2;
+  /// wall_compression: the walls close under the relaxation's background drag 1/(2000 dt)
+  /// (true), or with contact damping only (false: a more uniform bed)
+  bool compression_drag = true;
   std::string packing_cache_dir;   ///< where prepared beds are saved and reused ("" = no cache)
   FieldGridSpec fields;            ///< coarse-grained fields (off: bit-identical forces)
   int field_every = 500;           ///< steps between field snapshots (after the steady state)

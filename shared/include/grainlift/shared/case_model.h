@@ -74,6 +74,7 @@ struct DemSection {
   double relax_ke{};       ///< J per grain
   std::string preparation;  ///< "radius_growth" | "wall_compression" (packing.h)
   double compression_speed{};  ///< m/s, the top wall's speed in wall_compression
+  bool compression_drag{true};  ///< wall_compression under the relaxation's background drag
   std::string packing_cache;
 };
 
