@@ -22,6 +22,7 @@ import h5py  # python3-h5py (scripts/install-deps)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from pool_beds import mean_and_between  # noqa: E402
+from doc_markers import replace_between_markers  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -107,12 +108,7 @@ def main():
     text = "\n".join(t) + "\n"
     print(text)
     if a.doc:
-        doc = open(a.doc).read()
-        b, e = f"<!-- {a.marker}:begin -->", f"<!-- {a.marker}:end -->"
-        if b not in doc or e not in doc:
-            sys.exit(f"{a.doc}: no {b} ... {e} markers")
-        doc = doc[:doc.index(b) + len(b)] + "\n" + text + doc[doc.index(e):]
-        open(a.doc, "w").write(doc)
+        replace_between_markers(a.doc, a.marker, text)
 
 
 if __name__ == "__main__":

@@ -6,7 +6,6 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/block_sparsity_pattern.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/numerics/vector_tools.h>
 
