@@ -16,9 +16,8 @@
 // Without velocity-dependent forces this is plain velocity Verlet (symplectic).
 //
 // advance(n) runs n steps as segments between list rebuilds (step_schedule.cc): on one thread
-// a plain loop; on a team, work items in chunks of kChunkRows grains that wait only for the
-// items they depend on. Which thread takes which chunk does not change a bit of the results
-// (every per-grain sum is taken in pair order). Inside advance(), stage 3 of one step and
+// a plain loop; on a team, each thread on its own range of rows. The team does not change a bit
+// of the results (every per-grain sum is taken in pair order). Inside advance(), stage 3 of one step and
 // stage 1 of the next are one pass over the particle arrays; the last step of a call ends with
 // stage 3 alone, so the state between calls is that of single steps.
 #include "grainlift/dem/dem_system.h"
@@ -252,7 +251,7 @@ void DemSystem::prepare() {
   for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_);
   full_history_check_ = false;
   max_overlap_ = max_ov;
-  finish_rows(0, n_grains_, Kick::first);
+  finish_rows(0, n_grains_, Kick::first, nullptr);
   drifted_ = false;
   primed_ = true;
 }
@@ -299,7 +298,7 @@ void DemSystem::choose_team() {
     const char* v = std::getenv("GRAINLIFT_TEAM");
     return v && std::string(v) == "fixed";
   }();
-  if (team_max_ > 1 && !fixed) {
+  if (team_max_ > 1 && !fixed && !team_fixed_) {
     if (tune_left_ <= 0) {
       if (tune_phase_ == 1) {
         // both trials done: the faster per step (a tie goes to one thread: it frees a core)

@@ -68,21 +68,6 @@ void DemSystem::build_lists() {
     touch_prev_[c].k.resize(np + 1);
     touch_[c].n = touch_prev_[c].n = 0;
   }
-  // per chunk: the first chunk owning a pair with a partner in it (the pair loops that read
-  // or add to its grains are those of chunks [kick_dep_[c], c]), for the threaded step
-  kick_dep_.resize(static_cast<std::size_t>(nc_rows));
-  for (int c = 0; c < nc_rows; ++c) kick_dep_[c] = c;
-  for (std::size_t k = 0; k < nl_.pairs(); ++k) {
-    const int j = nl_.partner[k];
-    if (j >= n_grains_) continue;
-    int& dep = kick_dep_[j / kChunkRows];
-    dep = std::min(dep, nl_.owner[k] / kChunkRows);
-  }
-  if (static_cast<int>(force_done_size_) < nc_rows + 1) {
-    force_done_.reset(new std::atomic<long long>[static_cast<std::size_t>(nc_rows) + 1]);
-    force_done_size_ = static_cast<std::size_t>(nc_rows) + 1;
-  }
-  kick_d2_.resize(static_cast<std::size_t>(nc_rows) + 1);
   full_history_check_ = true;  // pair indices changed; histories were carried over
   {
     const std::size_t np = nl_.pairs();

@@ -79,8 +79,12 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
   auto rows = [&](int t, int nth) {
     const int lo = static_cast<int>(static_cast<std::int64_t>(n_mobile) * t / nth);
     const int hi = static_cast<int>(static_cast<std::int64_t>(n_mobile) * (t + 1) / nth);
-    std::vector<int>& out = thread_partner_[t];
-    std::vector<std::int64_t>& counts = thread_count_[t];
+    // local vectors (swapped in and out, keeping their capacity): the headers of neighbouring
+    // threads' vectors share a cache line, which every push_back would bounce between cores
+    std::vector<int> out;
+    std::vector<std::int64_t> counts;
+    out.swap(thread_partner_[t]);
+    counts.swap(thread_count_[t]);
     out.clear();
     counts.clear();
     for (int i = lo; i < hi; ++i) {
@@ -115,6 +119,8 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
       out.erase(std::unique(out.begin() + row_begin, out.end()), out.end());
       counts.push_back(static_cast<std::int64_t>(out.size() - row_begin));
     }
+    out.swap(thread_partner_[t]);
+    counts.swap(thread_count_[t]);
   };
   // one thread: no OpenMP region at all (a region started from a thread that is not OpenMP's,
   // such as a --replicas worker, would bind that thread to the first place under OMP_PROC_BIND)

@@ -1,4 +1,4 @@
-// Grain-grain and grain-wall contact forces of one chunk of rows (stage 2 of the step): a
+// Grain-grain and grain-wall contact forces of a range of rows (stage 2 of the step): a
 // distance screen over the listed pairs, the history of separated pairs forgotten, then the
 // contact law (contact_law.h) on the touching pairs in batches.
 #include <algorithm>
@@ -52,6 +52,25 @@ struct PairInputs {
 }  // namespace
 
 void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
+  const int lo = chunk * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
+  range_forces(lo, hi, touch_[static_cast<std::size_t>(chunk)],
+               touch_prev_[static_cast<std::size_t>(chunk)], spring_dt, max_ov, full_check, nullptr);
+}
+
+void DemSystem::range_forces(int lo, int hi, TouchList& now, TouchList& before,
+                             double spring_dt, double& max_ov, bool full_check,
+                             const std::uint8_t* shared) {
+  if (shared) {
+    range_forces_impl<true>(lo, hi, now, before, spring_dt, max_ov, full_check, shared);
+  } else {
+    range_forces_impl<false>(lo, hi, now, before, spring_dt, max_ov, full_check, nullptr);
+  }
+}
+
+template <bool kTeam>
+void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchList& before_list,
+                                  double spring_dt, double& max_ov, bool full_check,
+                                  const std::uint8_t* shared) {
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
   const LawCoefficients law = law_;
@@ -67,21 +86,19 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   double* pfy = nl_.fy.data();
   double* pq = nl_.q.data();
   const int ng = n_grains_;
-  // One thread: sum per particle in the pair loop itself (Newton's third law), no gather.
-  // The order of the additions is that of the gather of the threaded path (pairs where the
-  // particle is the partner, by pair index, then its own row), so the results are the same.
-  const bool scatter = team_ == 1;
-  const bool store = !scatter || store_pair_forces_;
+  // The forces are summed per grain in the pair loop itself (Newton's third law), in pair
+  // order, except for the shared grains of a team (run_segment_team): their pair forces are
+  // stored and summed at the kick, in the same order (pairs where the grain is the partner,
+  // by pair index, then its own row), so the results are the same bits.
+  const bool store_all = store_pair_forces_;
+  const bool forget_forces = store_all || kTeam;
   double* sfx = fx_.data();
   double* sfy = fy_.data();
   double* sq = tq_.data();
   std::uint8_t* touched = touched_.data();
-  const int lo = chunk * kChunkRows, hi = std::min(ng, lo + kChunkRows);
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
-  std::swap(touch_[chunk], touch_prev_[chunk]);
-  const TouchList& before_list = touch_prev_[chunk];
-  TouchList& touch_list = touch_[chunk];
-  // Pass 1: distance checks only, one flat loop over the chunk's pairs (most listed pairs of
+  std::swap(touch_list, before_list);
+  // Pass 1: distance checks only, one flat loop over the range's pairs (most listed pairs of
   // a relaxed bed are apart); no stores but the list of touching pairs.
   touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r,
                                       radii_scaled_ ? nullptr : pair_rs2_.data(), n_total_,
@@ -93,7 +110,7 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
   // two sorted lists; after a list build every pair is checked.
   auto forget = [&](std::int64_t k) {
     if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
-    if (store && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
+    if (forget_forces && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
   };
   if (full_check) {
     std::size_t a = 0;
@@ -163,26 +180,31 @@ void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool f
       }
       const double fxb = cb.fx[b], fyb = cb.fy[b];
       const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
-      if (store) {
+      const bool si = kTeam && shared[i] != 0;
+      const bool sj = kTeam && j < ng && shared[j] != 0;
+      if (store_all || si || sj) {
         pfx[k] = fxb;
         pfy[k] = fyb;
         pq[k] = qk;
       }
-      if (scatter) {
+      if (!si) {
         sfx[i] += fxb;
         sfy[i] += fyb;
         sq[i] += qk;
         touched[i] = 1;
-        if (j < ng) {
+      } else {
+        // another thread may mark the same grain (same value): a relaxed atomic byte store
+        __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
+      }
+      if (j < ng) {
+        if (!sj) {
           sfx[j] -= fxb;
           sfy[j] -= fyb;
           sq[j] += qk;
           touched[j] = 1;
+        } else {
+          __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
         }
-      } else {
-        // several threads may mark the same grain (same value): relaxed atomic byte stores
-        __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
-        if (j < ng) __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
       }
       // largest overlap fraction: the division only where it can raise the maximum (the
       // pre-test has a margin far above the rounding of either side)

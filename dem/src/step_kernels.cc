@@ -184,10 +184,14 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
     std::memcpy(&t, k.touched + i, 8);
     __m512d kx = hax, ky = hay, kw = hal;  // h a of each lane
     if (f | t) {
-      // Grains with pair forces (one thread: summed in sfx, sfy, sq), none touching the
-      // intruder: the accelerations of finish_impl's general branch. An untouched lane has
+      // Grains with pair forces summed in sfx, sfy, sq, none touching the intruder: the accelerations of finish_impl's general branch. An untouched lane has
       // sums +0.0 and gets exactly a0 from the same expressions.
-      if (!k.scatter || (f & (kOnes * k.candidate_bit))) break;
+      if (f & (kOnes * k.candidate_bit)) break;
+      if (k.shared) {
+        std::uint64_t sh;
+        std::memcpy(&sh, k.shared + i, 8);
+        if (sh & t) break;  // a touched shared grain: its sum is gathered (finish_impl)
+      }
       const __m512d fx = _mm512_loadu_pd(k.sfx + i), fy = _mm512_loadu_pd(k.sfy + i);
       const __m512d qs = _mm512_loadu_pd(k.sq + i);
       const __m512d inv_m = _mm512_loadu_pd(k.inv_m + i);

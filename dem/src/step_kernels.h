@@ -35,8 +35,10 @@ struct PlainKick {
   const std::uint8_t* dormant;
   double dt, h, damp;
   double ax0, ay0, al0;  ///< the accelerations of a grain without force
-  // one thread (scatter): the pair-force sums per grain, and what the accelerations need
-  bool scatter;
+  // the pair-force sums per grain (range_forces), and what the accelerations need
+  /// per grain: 1 if shared by a team's threads (its sum is gathered by the scalar kick), or
+  /// nullptr
+  const std::uint8_t* shared;
   double* sfx;
   double* sfy;
   double* sq;
@@ -53,9 +55,9 @@ struct PlainKick {
 
 /// @brief From row i on, in groups of eight, what DemSystem::finish_impl does: the second
 /// half kick (and with drift, the next half kick and drift) of grains without any force
-/// (flags and touched 0; groups of eight sleepers are skipped), and with scatter also of grains with pair forces (summed in sfx,
-/// sfy, sq) and their accelerations; stops at the first group with a grain it does not
-/// handle (a candidate of the intruder; any force without scatter), or fewer than eight
+/// (flags and touched 0; groups of eight sleepers are skipped), and also of grains with pair
+/// forces (summed in sfx, sfy, sq) and their accelerations; stops at the first group with a
+/// grain it does not handle (a candidate of the intruder; a touched shared grain), or fewer than eight
 /// rows before hi. Returns the row where it stopped (i itself when it did nothing or without
 /// AVX-512); max_d2 is raised to the largest squared displacement from (xb, yb) of the
 /// grains it moved (drift only).

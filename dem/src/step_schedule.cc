@@ -1,8 +1,10 @@
 // How the steps of advance() run: one thread in a plain loop (run_segment), or a team of
-// threads on work items that wait only for the items they depend on (run_segment_team).
+// threads, each on its own range of rows, one barrier per step (run_segment_team).
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <vector>
 
 #include <omp.h>
 #include <sched.h>
@@ -60,13 +62,116 @@ long long DemSystem::run_segment(long long m) {
     for (int c = 0; c < chunks(); ++c) {
       const int lo = c * kChunkRows;
       d2 = std::max(d2, finish_rows(lo, std::min(n_grains_, lo + kChunkRows),
-                                    last ? Kick::sync : Kick::drift));
+                                    last ? Kick::sync : Kick::drift, nullptr));
     }
     if (last) break;
   }
   max_overlap_ = max_ov;
   drifted_ = rebuild;
   return k;
+}
+
+void DemSystem::plan_split() {
+  const int team = team_;
+  const int ng = n_grains_;
+  const std::int64_t* first = nl_.first.data();
+  const int* partner = nl_.partner.data();
+  const double* x = p_.x.data();
+  const double* y = p_.y.data();
+  const double* r = p_.r.data();
+  // The work of a row: its kick, the screen of its listed pairs, the contact law of those
+  // that touch now (relative costs measured on one thread: a screened pair ~1, a contact
+  // ~kContactCost, a kick ~kRowCost).
+  constexpr double kRowCost = 2.0, kContactCost = 12.0;
+  std::vector<double> cum(static_cast<std::size_t>(ng) + 1, 0.0);
+  for (int i = 0; i < ng; ++i) {
+    double w = kRowCost + static_cast<double>(first[i + 1] - first[i]);
+    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+      const int j = partner[k];
+      double dx = x[i] - x[j], dy = y[i] - y[j];
+      opt_.box.min_image(dx, dy);
+      const double rs = r[i] + r[j];
+      if (dx * dx + dy * dy < rs * rs) w += kContactCost;
+    }
+    cum[static_cast<std::size_t>(i) + 1] = cum[static_cast<std::size_t>(i)] + w;
+  }
+  // Each thread's speed from the last plan (work per busy second), averaged over plans; equal
+  // speeds at first.
+  const auto nt = static_cast<std::size_t>(team);
+  if (split_speed_.size() != nt) {
+    split_speed_.assign(nt, 1.0);
+  } else if (split_work_.size() == nt && split_steps_ >= 50) {
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (!(split_busy_[t] > 0) || !(split_work_[t] > 0)) continue;
+      const double v = split_work_[t] * static_cast<double>(split_steps_) / split_busy_[t];
+      split_speed_[t] = 0.5 * split_speed_[t] + 0.5 * v;
+    }
+  }
+  double speed_sum = 0;
+  for (double v : split_speed_) speed_sum += v;
+  split_.assign(nt + 1, ng);
+  split_[0] = 0;
+  double share = 0;
+  for (int t = 1; t < team; ++t) {
+    share += split_speed_[static_cast<std::size_t>(t) - 1] / speed_sum;
+    const double goal = cum[static_cast<std::size_t>(ng)] * share;
+    const auto it = std::lower_bound(cum.begin(), cum.end(), goal);
+    split_[static_cast<std::size_t>(t)] =
+        std::max(split_[static_cast<std::size_t>(t) - 1],
+                 std::min(ng, static_cast<int>(it - cum.begin())));
+  }
+  // Each range [lo, hi) has a top band [cross, hi): the rows from the first one that owns a
+  // pair reaching a higher range. Its pairs are computed first, so that the higher ranges may
+  // kick the rows those pairs read as early as possible. Shared grains (summed at the kick
+  // from the stored pair forces, in pair order, whatever the order the pairs were computed
+  // in): the partners of a pair owned by a lower range, and those of the top band reached by
+  // the rows of their own range below the band. The pairs of the lower ranges reach the rows
+  // [lo, split_reach_[t]) of range t.
+  shared_.assign(static_cast<std::size_t>(ng), 0);
+  split_cross_.assign(split_.begin() + 1, split_.end());
+  split_reach_.assign(split_.begin(), split_.end() - 1);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const int lo = split_[t], hi = split_[t + 1];
+    int& cross = split_cross_[t];
+    for (int i = lo; i < hi; ++i) {
+      for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+        const int j = partner[k];
+        if (j >= hi && j < ng) {
+          shared_[static_cast<std::size_t>(j)] = 1;
+          cross = std::min(cross, i);
+          // the range of j, and the rows of it that lower ranges reach
+          const auto u = static_cast<std::size_t>(
+              std::upper_bound(split_.begin(), split_.end(), j) - split_.begin() - 1);
+          split_reach_[u] = std::max(split_reach_[u], j + 1);
+        }
+      }
+    }
+    for (std::int64_t k = first[lo]; k < first[cross]; ++k) {
+      const int j = partner[k];
+      if (j >= cross && j < hi) shared_[static_cast<std::size_t>(j)] = 1;
+    }
+  }
+  // two touch lists per thread: the top band, then the rest
+  split_touch_.resize(2 * nt);
+  split_touch_prev_.resize(2 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const int bounds[3] = {split_cross_[t], split_[t + 1], split_[t]};
+    for (std::size_t b = 0; b < 2; ++b) {
+      const std::int64_t np = b == 0 ? first[bounds[1]] - first[bounds[0]] : first[bounds[0]] - first[bounds[2]];
+      for (TouchList* l : {&split_touch_[2 * t + b], &split_touch_prev_[2 * t + b]}) {
+        l->k.resize(static_cast<std::size_t>(np) + 1);
+        l->n = 0;
+      }
+    }
+  }
+  split_work_.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    split_work_[t] = cum[static_cast<std::size_t>(split_[t + 1])] - cum[static_cast<std::size_t>(split_[t])];
+  }
+  split_busy_.assign(nt, 0.0);
+  split_steps_ = 0;
+  full_history_check_ = true;  // new touch lists: the next force pass checks every pair
+  split_build_ = builds_;
 }
 
 namespace {
@@ -85,109 +190,105 @@ inline void wait_until(Ready ready) {
 }
 }  // namespace
 
-// The threaded step without a team barrier inside the segment. Work items, one sequence for all
-// steps, handed out from one counter: per step, the pair forces (item 0: the intruder's
-// contacts, 1 + c: the pairs owned by chunk c), then the kicks (item 0: the intruder's motion
-// and the clock, 1 + c: the grains of chunk c). A force item of step s waits until every kick
-// item of step s - 1 is done and the list check for step s is taken (by the thread that
-// completed the last of them, from the per-item displacements); a kick item of chunk c waits
-// only for the force items that read or add to its grains (chunks kick_dep_[c] to c, and the
-// intruder). A thread that is descheduled holds up the others only through the items it holds,
-// not by having to arrive at a barrier. The operations, and so the bits, are those of
-// run_segment (every per-grain sum is taken in pair order at the kick, whoever computed the
-// pair forces).
+// The threaded step. Thread t owns the rows [split_[t], split_[t + 1]): it computes the
+// pair forces of their top band first (the pairs that reach higher ranges; thread 0 the
+// intruder's contacts before), then of the other rows, then kicks the rows of its range that
+// no lower range reads, then - once the lower ranges have their top bands' forces - the rows
+// they read (a pair's partner is never below its owner: no range waits for a higher one). At
+// the one barrier of the step the last thread to arrive moves the boundaries and the clock
+// and takes the list check for the next step. A grain reached only by pairs of one pass of
+// its own thread gets its sum in the pair loop, as on one thread; a shared grain (plan_split)
+// gets it at the kick from the stored pair forces, in pair order: the same bits as
+// run_segment, whatever the split.
 long long DemSystem::run_segment_team(long long m) {
+  if (split_build_ != builds_ || static_cast<int>(split_.size()) != team_ + 1) plan_split();
   const int team = team_;
-  const int nchunks = chunks();
-  const int per_phase = nchunks + 1;
-  const long long per_step = 2LL * per_phase;
   const double dt = opt_.dt;
-  const int ng = n_grains_;
-  const int rows_per_chunk = kChunkRows;
+  const std::uint8_t* shared = shared_.data();
   detail::TeamBarrier barrier(team);
-  std::atomic<int> init_next{0};
-  std::atomic<long long> next{0};
-  std::atomic<long long> kicks_done{0};  // kick items completed in this segment
-  std::atomic<long long> decided{-1};    // list check taken for steps <= decided
-  std::atomic<long long> stop_step{m};   // first step not to run (a rebuild is due)
-  std::atomic<long long>* fdone = force_done_.get();
-  for (int q = 0; q < per_phase; ++q) fdone[q].store(0, std::memory_order_relaxed);
-  double* kd2 = kick_d2_.data();
   struct alignas(64) Slot {
     double d2 = 0;
+    double busy = 0;  ///< s, pair forces and kicks
+    std::atomic<long long> band_done{0};  ///< steps of this segment with the top band's forces
+    std::atomic<long long> intruder_done{0};  ///< the same for the intruder's (thread 0)
   };
   Slot slot[kMaxTeam];
   double idisp = 0;
   const bool was_drifted = drifted_;
-  const bool full_check0 = full_history_check_;
+  // written only in the barrier's release, read by every thread after it
+  bool full_check = full_history_check_;
+  long long completed = 0;
+  bool done = false, rebuild = false;
   double max_ov = max_overlap_;
+  auto largest_d2 = [&] {
+    double md2 = 0;
+    for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
+    return md2;
+  };
 #pragma omp parallel num_threads(team) reduction(max : max_ov)
   {
     const int t = omp_get_thread_num();
-    double d2 = 0;
+    const int lo = split_[static_cast<std::size_t>(t)];
+    const int hi = split_[static_cast<std::size_t>(t) + 1];
+    const auto ut = static_cast<std::size_t>(t);
+    const int cross = split_cross_[ut];
+    const int reach = t > 0 ? split_reach_[ut] : hi;
     if (!was_drifted) {
-      for (int c; (c = init_next.fetch_add(1, std::memory_order_relaxed)) < per_phase;)
-        d2 = std::max(d2, drift_item(c, idisp));
+      slot[t].d2 = drift_rows(lo, hi);
+      if (t == 0) idisp = drift_intruder();
     }
-    slot[t].d2 = d2;
-    barrier.wait([] {});
-    if (t == 0) {
-      double md2 = 0;
-      for (int u = 0; u < team; ++u) md2 = std::max(md2, slot[u].d2);
-      if (rebuild_due(md2, idisp, was_drifted)) stop_step.store(0, std::memory_order_relaxed);
-      decided.store(0, std::memory_order_release);
-    }
-    for (;;) {
-      const long long g = next.fetch_add(1, std::memory_order_relaxed);
-      const long long s = g / per_step;
-      const int idx = static_cast<int>(g % per_step);
-      if (s >= m) break;
-      if (idx < per_phase) {
-        // pair forces of step s
-        wait_until([&] { return decided.load(std::memory_order_acquire) >= s; });
-        if (s >= stop_step.load(std::memory_order_relaxed)) break;
-        if (idx == 0) {
-          intruder_forces(dt, max_ov);
-        } else {
-          chunk_forces(idx - 1, dt, max_ov, s == 0 && full_check0);
-        }
-        fdone[idx].store(s + 1, std::memory_order_release);
-      } else {
-        // kicks of step s
-        const int c = idx - per_phase;
-        const bool last = s == m - 1;
-        wait_until([&] { return fdone[0].load(std::memory_order_acquire) > s; });
-        if (c == 0) {
-          advance_clock(last, idisp);
-        } else {
-          for (int q = kick_dep_[c - 1]; q <= c - 1; ++q) {
-            wait_until([&] { return fdone[q + 1].load(std::memory_order_acquire) > s; });
-          }
-          const int lo = (c - 1) * rows_per_chunk;
-          kd2[c] = finish_rows(lo, std::min(ng, lo + rows_per_chunk),
-                               last ? Kick::sync : Kick::drift);
-        }
-        // the thread that completes the step (every force item of the step is done: each
-        // kick item waited for its own chunk's) moves the boundaries and takes the list check
-        // for the next step
-        if (kicks_done.fetch_add(1, std::memory_order_acq_rel) == (s + 1) * per_phase - 1) {
-          step_boundaries();
-          if (!last) {
-            double md2 = 0;
-            for (int q = 1; q <= nchunks; ++q) md2 = std::max(md2, kd2[q]);
-            if (rebuild_due(md2, idisp, false)) stop_step.store(s + 1, std::memory_order_relaxed);
-            decided.store(s + 1, std::memory_order_release);
-          }
-        }
+    barrier.wait([&] {
+      rebuild = rebuild_due(was_drifted ? 0.0 : largest_d2(), idisp, was_drifted);
+      done = rebuild;
+    });
+    using Clock = std::chrono::steady_clock;
+    Clock::duration busy{0};
+    for (long long s = 0; !done; ++s) {
+      const auto t0 = Clock::now();
+      if (t == 0) {
+        intruder_forces(dt, max_ov);
+        slot[0].intruder_done.store(s + 1, std::memory_order_release);
       }
+      range_forces(cross, hi, split_touch_[2 * ut], split_touch_prev_[2 * ut], dt, max_ov,
+                   full_check, shared);
+      slot[t].band_done.store(s + 1, std::memory_order_release);
+      range_forces(lo, cross, split_touch_[2 * ut + 1], split_touch_prev_[2 * ut + 1], dt,
+                   max_ov, full_check, shared);
+      const bool last = s + 1 == m;
+      const Kick mode = last ? Kick::sync : Kick::drift;
+      double d2 = 0;
+      if (t > 0) {
+        // the rows no lower range reaches, once the intruder's contacts are known
+        wait_until([&] { return slot[0].intruder_done.load(std::memory_order_acquire) > s; });
+        d2 = finish_rows(reach, hi, mode, shared);
+      }
+      const auto t1 = Clock::now();
+      for (int u = 0; u < t; ++u) {
+        wait_until([&] { return slot[u].band_done.load(std::memory_order_acquire) > s; });
+      }
+      const auto t2 = Clock::now();
+      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, shared));
+      busy += (t1 - t0) + (Clock::now() - t2);
+      barrier.wait([&] {
+        completed = s + 1;
+        step_boundaries();
+        advance_clock(last, idisp);
+        full_check = false;
+        if (last) {
+          done = true;
+        } else if (rebuild_due(largest_d2(), idisp, false)) {
+          done = rebuild = true;
+        }
+      });
     }
+    slot[t].busy = std::chrono::duration<double>(busy).count();
   }
-  const long long completed = std::min(m, stop_step.load());
-  if (completed > 0) full_history_check_ = false;
+  for (int u = 0; u < team; ++u) split_busy_[static_cast<std::size_t>(u)] += slot[u].busy;
+  split_steps_ += completed;
+  full_history_check_ = full_check;
   max_overlap_ = max_ov;
-  drifted_ = completed < m;
+  drifted_ = rebuild;
   return completed;
 }
-
 
 }  // namespace grainlift::dem

@@ -20,8 +20,8 @@ inline std::uint64_t bits(double v) {
 }
 }  // namespace
 
-template <bool kScatter, DemSystem::Kick kMode>
-double DemSystem::finish_impl(int lo, int hi) {
+template <DemSystem::Kick kMode>
+double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
   const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
@@ -65,7 +65,7 @@ double DemSystem::finish_impl(int lo, int hi) {
   const bool simd = kMode != Kick::first && detail::avx512_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
   detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
-                          dormant, dt,    h,     damp,   ax0,    ay0,   al0, kScatter, sfx,       sfy,
+                          dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
                           sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
                           kCandidate, kAccelSet, box};
   for (int i = lo; i < hi;) {
@@ -96,15 +96,15 @@ double DemSystem::finish_impl(int lo, int hi) {
     double fx = 0, fy = 0, qs = 0;
     if (touched[i]) {
       touched[i] = 0;
-      if (kScatter) {
-        // the sums of this step; zeroed for the next one
+      if (!(shared && shared[i])) {
+        // the sums of this step (range_forces); zeroed for the next one
         fx = sfx[i];
         fy = sfy[i];
         qs = sq[i];
         sfx[i] = sfy[i] = sq[i] = 0;
       } else {
-        // pairs where i is the partner (by pair index), then i's own row: the order of the
-        // one-thread scatter in chunk_forces
+        // a shared grain of a team: pairs where i is the partner (by pair index), then i's
+        // own row, the order in which range_forces sums the others
         for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
           const std::int64_t k = rpair[s];
           fx -= pfx[k];
@@ -161,15 +161,10 @@ double DemSystem::finish_impl(int lo, int hi) {
   return maxd2;
 }
 
-double DemSystem::finish_rows(int lo, int hi, Kick mode) {
-  if (team_ == 1) {
-    if (mode == Kick::drift) return finish_impl<true, Kick::drift>(lo, hi);
-    if (mode == Kick::sync) return finish_impl<true, Kick::sync>(lo, hi);
-    return finish_impl<true, Kick::first>(lo, hi);
-  }
-  if (mode == Kick::drift) return finish_impl<false, Kick::drift>(lo, hi);
-  if (mode == Kick::sync) return finish_impl<false, Kick::sync>(lo, hi);
-  return finish_impl<false, Kick::first>(lo, hi);
+double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared) {
+  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi, shared);
+  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi, shared);
+  return finish_impl<Kick::first>(lo, hi, shared);
 }
 
 double DemSystem::drift_rows(int lo, int hi) {

@@ -95,8 +95,8 @@ class DemSystem {
   void step() { advance(1); }
 
   /// @brief Advance by n time steps. The same results as n calls of step(), bit for bit, but
-  /// faster: one OpenMP parallel region per n steps (per list rebuild), no team barrier
-  /// inside it (work items wait for the items they depend on), and the second half kick of a step fused with the half kick and drift of the next
+  /// faster: one OpenMP parallel region per n steps (per list rebuild), each thread on its own
+  /// range of rows, and the second half kick of a step fused with the half kick and drift of the next
   /// (one pass over the particle arrays). The state is only observable between calls.
   void advance(long long n);
 
@@ -217,6 +217,9 @@ class DemSystem {
   /// times the step on one thread and on threads_allowed() now and then and runs on the faster
   /// (the same bits either way); see choose_team().
   int threads_used() const { return steps_on_team_ > steps_on_one_ ? team_max_ : 1; }
+  /// @brief Run every step on the whole team, without the timed trials (benchmarks and tests
+  /// of the threaded step; the environment variable GRAINLIFT_TEAM=fixed does the same).
+  void set_team_fixed(bool on) { team_fixed_ = on; }
   /// Steps run on one thread and on the team so far.
   std::int64_t steps_on_one_thread() const { return steps_on_one_; }
   std::int64_t steps_on_team() const { return steps_on_team_; }
@@ -228,17 +231,33 @@ class DemSystem {
   /// delta = r_i + r_j - |x_i - x_j| of the current positions (any sign).
   template <class F>
   void for_each_gap(F f) const;
-  /// Pair forces of the rows of one chunk (pass 1: distance checks, pass 2: contact law).
+  /// Touching pairs of a range of rows: k[0, n) (k has room for every pair of the range + 1).
+  struct TouchList {
+    std::vector<std::int64_t> k;
+    std::size_t n = 0;
+  };
+  /// Pair forces of the rows of one chunk (one thread; pass 1: distance checks, pass 2:
+  /// contact law), summed per grain in the pair loop.
   void chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check);
+  /// The same for rows [lo, hi) with their touch lists (swapped: @p now gets this step's
+  /// touching pairs, @p before holds the last step's). Grains with @p shared set (a team's
+  /// grains that pairs of other threads' rows reach; nullptr: none) get no sum in the pair
+  /// loop: the pair forces of their pairs are stored and the kick sums them in pair order.
+  void range_forces(int lo, int hi, TouchList& now, TouchList& before, double spring_dt,
+                    double& max_ov, bool full_check, const std::uint8_t* shared);
+  template <bool kTeam>
+  void range_forces_impl(int lo, int hi, TouchList& now, TouchList& before, double spring_dt,
+                         double& max_ov, bool full_check, const std::uint8_t* shared);
   /// The intruder's own contacts (serial, fixed order).
   void intruder_forces(double spring_dt, double& max_ov);
   enum class Kick { first, sync, drift };
   /// Accelerations of rows [lo, hi) from the forces; with Kick::sync/drift the second half
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
-  double finish_rows(int lo, int hi, Kick mode);
-  template <bool kScatter, Kick kMode>
-  double finish_impl(int lo, int hi);
+  /// Grains with @p shared set (nullptr: none) sum their stored pair forces (range_forces).
+  double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared);
+  template <Kick kMode>
+  double finish_impl(int lo, int hi, const std::uint8_t* shared);
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
@@ -273,9 +292,13 @@ class DemSystem {
   /// Runs up to m steps on one thread; stops early (state drifted) when the lists need a
   /// rebuild. Returns the steps completed.
   long long run_segment(long long m);
-  /// The same on a team of threads, without a barrier inside the segment (items with
-  /// per-chunk dependencies, see dem_system.cc).
+  /// The same on a team of threads: thread t owns the rows [split_[t], split_[t + 1]) (their
+  /// pairs and kicks); one barrier per step (step_schedule.cc).
   long long run_segment_team(long long m);
+  /// The team's rows, its shared grains and touch lists, for the current lists
+  /// (step_schedule.cc): the rows are split by the work of their pairs at the current
+  /// positions, in proportion to each thread's measured speed on its last ranges.
+  void plan_split();
   int chunks() const { return (n_grains_ + kChunkRows - 1) / kChunkRows; }
   static constexpr int kChunkRows = 1024;
 
@@ -302,6 +325,7 @@ class DemSystem {
   double tune_seconds_[2] = {0, 0};    ///< wall time of the trials (one thread, team)
   long long tune_steps_[2] = {0, 0};   ///< their steps
   int tune_best_ = 1;                  ///< team size of the exploit phase
+  bool team_fixed_ = false;            ///< set_team_fixed()
   std::int64_t steps_on_one_ = 0, steps_on_team_ = 0;
   bool store_pair_forces_ = true;
   double damping_rate_ = 0;
@@ -309,13 +333,8 @@ class DemSystem {
   int n_grains_ = 0, n_total_ = 0;
   ParticleArrays p_;
   /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
-  /// on one thread (in the same order as the gather of the threaded path: same bits).
+  /// (in pair order; a team's shared grains are summed at the kick instead, in the same order).
   std::vector<double> fx_, fy_, tq_;
-  /// Touching pairs of one chunk: k[0, n) (k has room for every pair of the chunk + 1).
-  struct TouchList {
-    std::vector<std::int64_t> k;
-    std::size_t n = 0;
-  };
   std::vector<TouchList> touch_;  ///< per chunk: touching pairs of the step
   std::vector<TouchList> touch_prev_;  ///< per chunk: those of the step before
   /// The history (and stored force) of a listed pair is non-zero only if the pair touched at
@@ -325,12 +344,24 @@ class DemSystem {
   /// per listed pair: r_i r_j / (r_i + r_j) and 1 / (1/m_i + 1/m_j), set at the build
   std::vector<double> pair_reff_, pair_meff_;
   std::vector<double> pair_rs2_;  ///< per listed pair: (r_i + r_j)^2, set at the build
-  /// Threaded step: per chunk, the first chunk owning a pair with a partner in it; per force
-  /// item, the steps completed (run_segment_team); per kick item, its largest displacement.
-  std::vector<int> kick_dep_;
-  std::unique_ptr<std::atomic<long long>[]> force_done_;
-  std::size_t force_done_size_ = 0;
-  std::vector<double> kick_d2_;
+  /// Threaded step (run_segment_team, plan_split): the first row of each thread's range
+  /// (team_ + 1 entries, the last n_grains_); per grain, 1 if a pair owned by another
+  /// thread's rows reaches it; per thread, the touch lists of its range; the list build they
+  /// were planned for.
+  std::vector<int> split_;
+  std::vector<std::uint8_t> shared_;
+  /// per thread: the rows of its range below this are read by the pairs of lower ranges; the
+  /// first row of its top band (the rows from the first one owning a pair that reaches a
+  /// higher range)
+  std::vector<int> split_reach_, split_cross_;
+  std::vector<TouchList> split_touch_, split_touch_prev_;
+  int split_build_ = -1;
+  /// Per thread: the estimated work of its range per step (plan_split's units), the busy
+  /// seconds (pair forces and kick, not waiting) and steps run on it since the plan, and its
+  /// speed (work per second, a running mean over plans; the two cores of a VM need not run
+  /// at the same speed, and the cost model is approximate).
+  std::vector<double> split_work_, split_busy_, split_speed_;
+  long long split_steps_ = 0;
   bool radii_scaled_ = false;  ///< a radius changed since the build: pair constants stale
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
