@@ -87,6 +87,8 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   tune_left_ = kWarmSteps + kTrialSteps;
   tune_seconds_[0] = tune_seconds_[1] = 0;
   tune_steps_[0] = tune_steps_[1] = 0;
+  tune_early_[0] = tune_early_[1] = 0;
+  tune_backoff_ = 0;
   nl_.clear();
   ic_ = IntruderContacts{};
   ic_old_ = IntruderContacts{};
@@ -305,12 +307,14 @@ void DemSystem::choose_team() {
         const double one = tune_seconds_[0] / double(std::max(1LL, tune_steps_[0]));
         const double team = tune_seconds_[1] / double(std::max(1LL, tune_steps_[1]));
         tune_best_ = team < one ? team_max_ : 1;
+        tune_backoff_ = tune_best_ > 1 ? 0 : std::min(kMaxBackoff, tune_backoff_ + 1);
       }
       tune_phase_ = (tune_phase_ + 1) % 3;
-      tune_left_ = tune_phase_ == 2 ? kExploitSteps : kWarmSteps + kTrialSteps;
+      tune_left_ = tune_phase_ == 2 ? kExploitSteps << tune_backoff_ : kWarmSteps + kTrialSteps;
       if (tune_phase_ == 0) {
         tune_seconds_[0] = tune_seconds_[1] = 0;
         tune_steps_[0] = tune_steps_[1] = 0;
+        tune_early_[0] = tune_early_[1] = 0;
       }
     }
     want = tune_phase_ == 0 ? 1 : tune_phase_ == 1 ? team_max_ : tune_best_;
@@ -324,6 +328,20 @@ void DemSystem::choose_team() {
 void DemSystem::account_segment(long long steps, double seconds) {
   (team_ > 1 ? steps_on_team_ : steps_on_one_) += steps;
   if (team_max_ == 1) return;
+  // The team's trial ends early when its first kEarlySteps or more steps (warm-up included)
+  // took more than three times as long per step as the one-thread trial: another process
+  // holds a core, and waiting out 2,500 such steps would cost more than the trial can win.
+  if (tune_phase_ == 1) {
+    tune_early_[0] += seconds;
+    tune_early_[1] += double(steps);
+    if (tune_early_[1] >= kEarlySteps && tune_steps_[0] > 0 &&
+        tune_early_[0] / tune_early_[1] > 3.0 * tune_seconds_[0] / double(tune_steps_[0])) {
+      tune_seconds_[1] = tune_early_[0];
+      tune_steps_[1] = static_cast<long long>(tune_early_[1]);
+      tune_left_ = 0;
+      return;
+    }
+  }
   if (tune_phase_ < 2 && kWarmSteps + kTrialSteps - tune_left_ >= kWarmSteps) {
     tune_seconds_[tune_phase_] += seconds;
     tune_steps_[tune_phase_] += steps;

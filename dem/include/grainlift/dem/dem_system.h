@@ -325,6 +325,14 @@ class DemSystem {
   double tune_seconds_[2] = {0, 0};    ///< wall time of the trials (one thread, team)
   long long tune_steps_[2] = {0, 0};   ///< their steps
   int tune_best_ = 1;                  ///< team size of the exploit phase
+  /// The exploit phase lasts kExploitSteps << tune_backoff_: each trial the team loses doubles
+  /// it (up to kMaxBackoff), a win resets it, so that under lasting load from another process
+  /// (where a team step can take ten times a one-thread step) the trials become rare.
+  int tune_backoff_ = 0;
+  static constexpr int kMaxBackoff = 4;
+  /// seconds and steps of the team trial so far, warm-up included (account_segment's early end)
+  double tune_early_[2] = {0, 0};
+  static constexpr long long kEarlySteps = 200;
   bool team_fixed_ = false;            ///< set_team_fixed()
   std::int64_t steps_on_one_ = 0, steps_on_team_ = 0;
   bool store_pair_forces_ = true;
