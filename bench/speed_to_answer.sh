@@ -12,7 +12,8 @@
 #   threads   two threads against one: the step on the dense, jammed and dilute 23,000-27,000
 #             grain beds (dem_throughput, the same steps on both sides), and the whole reduced
 #             run (2,295 grains)
-#   replicas  --replicas 2 against one run, both on --threads 2: statistics per wall second
+#   replicas  --replicas 2 (on --threads 2) against one run on one and on two threads:
+#             statistics per wall second
 #   fields    the saving of not accumulating fields (output.fields = false) on the reduced run
 #   frictionless  the saving of dem.frictionless_path on the reduced run with grains.friction = 0
 #   sleep     the saving of sleeping grains (dem.sleep, speed 0: the same bits) on the reduced
@@ -147,15 +148,25 @@ PYEOF
 fi
 
 if has replicas; then
-  echo; echo "## Replicas against threads (both --threads 2)"
+  echo; echo "## Replicas against one run on one and on two threads"
   # the second replica's bed (seed dem.seed + 1) once, so that no timed run prepares it
   "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.seed=2 --set dem.travel=0.1 --set dem.steady_travel=0 \
     --out "$WORK/prep_seed2" --quiet >/dev/null
-  ARGS_A=(--threads 2) ARGS_B=(--threads 2 --replicas 2)
-  timed_ab threads2r replicas2
-  one=$(cat "$WORK/threads2r.wall"); two=$(cat "$WORK/replicas2.wall"); r=$(cat "$WORK/threads2r.replicas2.ratio")
-  awk -v a="$one" -v b="$two" -v r="$r" 'BEGIN {
-    printf "medians: one run on 2 threads %.1f s; 2 replicas (1 thread each) %.1f s: %.2fx the samples per wall second (paired; target: close to 2x)\n", a, b, 2 * r }'
+  # one run on one thread, one run on two, two replicas: in turn, REPS times
+  rm -f "$WORK/threads1r.walls" "$WORK/threads2r.walls" "$WORK/replicas2.walls"
+  for ((r = 0; r < REPS; ++r)); do
+    run_once threads1r --threads 1
+    run_once threads2r --threads 2
+    run_once replicas2 --threads 2 --replicas 2
+  done
+  for n in threads1r threads2r replicas2; do median <"$WORK/$n.walls" >"$WORK/$n.wall"; done
+  echo "# threads1r: $(tr '\n' ' ' <"$WORK/threads1r.walls")s; threads2r: $(tr '\n' ' ' <"$WORK/threads2r.walls")s; replicas2: $(tr '\n' ' ' <"$WORK/replicas2.walls")s"
+  for n in threads1r threads2r; do
+    r=$(paste "$WORK/$n.walls" "$WORK/replicas2.walls" | awk '{print 2 * $1 / $2}' | median)
+    pairs=$(paste "$WORK/$n.walls" "$WORK/replicas2.walls" | awk '{printf "%.2f ", 2 * $1 / $2}')
+    awk -v n="${n:7:1}" -v a="$(cat "$WORK/$n.wall")" -v b="$(cat "$WORK/replicas2.wall")" -v r="$r" -v p="$pairs" 'BEGIN {
+      printf "2 replicas (1 thread each, median %.1f s) against one run on %s thread(s) (median %.1f s): %.2fx the samples per wall second (paired: %s; target: close to 2x)\n", b, n, a, r, p }'
+  done
 fi
 
 if has fields; then
