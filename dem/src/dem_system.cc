@@ -87,7 +87,8 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   tune_left_ = kWarmSteps + kTrialSteps;
   tune_seconds_[0] = tune_seconds_[1] = 0;
   tune_steps_[0] = tune_steps_[1] = 0;
-  tune_early_[0] = tune_early_[1] = 0;
+  tune_early_seconds_ = 0;
+  tune_early_steps_ = 0;
   tune_backoff_ = 0;
   nl_.clear();
   ic_ = IntruderContacts{};
@@ -215,26 +216,6 @@ double DemSystem::kinetic_energy() const {
   return e;
 }
 
-template <class F>
-void DemSystem::for_each_gap(F f) const {
-  for (int i = 0; i < n_grains_; ++i) {
-    for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
-      const int j = nl_.partner[k];
-      double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
-      opt_.box.min_image(dx, dy);
-      const double rs = p_.r[i] + p_.r[j];
-      f(rs - std::sqrt(dx * dx + dy * dy), p_.r[i], p_.r[j], i, j);
-    }
-  }
-  if (!intruder_.present) return;
-  for (int g : ic_.grain) {
-    double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
-    opt_.box.min_image(dx, dy);
-    const double rs = p_.r[g] + intruder_.r;
-    f(rs - std::sqrt(dx * dx + dy * dy), p_.r[g], intruder_.r, g, -1);
-  }
-}
-
 double DemSystem::normal_elastic_energy() const {
   // (2/5) A_n delta^2 with A_n = k sqrt(delta) of F_n = A_n delta
   double e = 0;
@@ -314,7 +295,8 @@ void DemSystem::choose_team() {
       if (tune_phase_ == 0) {
         tune_seconds_[0] = tune_seconds_[1] = 0;
         tune_steps_[0] = tune_steps_[1] = 0;
-        tune_early_[0] = tune_early_[1] = 0;
+        tune_early_seconds_ = 0;
+        tune_early_steps_ = 0;
       }
     }
     want = tune_phase_ == 0 ? 1 : tune_phase_ == 1 ? team_max_ : tune_best_;
@@ -332,12 +314,13 @@ void DemSystem::account_segment(long long steps, double seconds) {
   // took more than three times as long per step as the one-thread trial: another process
   // holds a core, and waiting out 2,500 such steps would cost more than the trial can win.
   if (tune_phase_ == 1) {
-    tune_early_[0] += seconds;
-    tune_early_[1] += double(steps);
-    if (tune_early_[1] >= kEarlySteps && tune_steps_[0] > 0 &&
-        tune_early_[0] / tune_early_[1] > 3.0 * tune_seconds_[0] / double(tune_steps_[0])) {
-      tune_seconds_[1] = tune_early_[0];
-      tune_steps_[1] = static_cast<long long>(tune_early_[1]);
+    tune_early_seconds_ += seconds;
+    tune_early_steps_ += steps;
+    if (tune_early_steps_ >= kEarlySteps && tune_steps_[0] > 0 &&
+        tune_early_seconds_ / double(tune_early_steps_) >
+            3.0 * tune_seconds_[0] / double(tune_steps_[0])) {
+      tune_seconds_[1] = tune_early_seconds_;
+      tune_steps_[1] = tune_early_steps_;
       tune_left_ = 0;
       return;
     }

@@ -184,8 +184,9 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
     std::memcpy(&t, k.touched + i, 8);
     __m512d kx = hax, ky = hay, kw = hal;  // h a of each lane
     if (f | t) {
-      // Grains with pair forces summed in sfx, sfy, sq, none touching the intruder: the accelerations of finish_impl's general branch. An untouched lane has
-      // sums +0.0 and gets exactly a0 from the same expressions.
+      // Grains with pair forces summed in sfx, sfy, sq, none touching the intruder: the
+      // accelerations of finish_impl's general branch. An untouched lane has sums +0.0 and
+      // gets exactly a0 from the same expressions.
       if (f & (kOnes * k.candidate_bit)) break;
       if (k.shared) {
         std::uint64_t sh;

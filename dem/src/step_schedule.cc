@@ -76,25 +76,18 @@ void DemSystem::plan_split() {
   const int ng = n_grains_;
   const std::int64_t* first = nl_.first.data();
   const int* partner = nl_.partner.data();
-  const double* x = p_.x.data();
-  const double* y = p_.y.data();
-  const double* r = p_.r.data();
   // The work of a row: its kick, the screen of its listed pairs, the contact law of those
   // that touch now (relative costs measured on one thread: a screened pair ~1, a contact
   // ~kContactCost, a kick ~kRowCost).
   constexpr double kRowCost = 2.0, kContactCost = 12.0;
   std::vector<double> cum(static_cast<std::size_t>(ng) + 1, 0.0);
   for (int i = 0; i < ng; ++i) {
-    double w = kRowCost + static_cast<double>(first[i + 1] - first[i]);
-    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-      const int j = partner[k];
-      double dx = x[i] - x[j], dy = y[i] - y[j];
-      opt_.box.min_image(dx, dy);
-      const double rs = r[i] + r[j];
-      if (dx * dx + dy * dy < rs * rs) w += kContactCost;
-    }
-    cum[static_cast<std::size_t>(i) + 1] = cum[static_cast<std::size_t>(i)] + w;
+    cum[static_cast<std::size_t>(i) + 1] = kRowCost + static_cast<double>(first[i + 1] - first[i]);
   }
+  for_each_gap([&](double delta, double, double, int i, int j) {
+    if (j >= 0 && delta > 0) cum[static_cast<std::size_t>(i) + 1] += kContactCost;
+  });
+  for (int i = 0; i < ng; ++i) cum[static_cast<std::size_t>(i) + 1] += cum[static_cast<std::size_t>(i)];
   // Each thread's speed from the last plan (work per busy second), averaged over plans; equal
   // speeds at first.
   const auto nt = static_cast<std::size_t>(team);
@@ -151,18 +144,19 @@ void DemSystem::plan_split() {
       if (j >= cross && j < hi) shared_[static_cast<std::size_t>(j)] = 1;
     }
   }
-  // two touch lists per thread: the top band, then the rest
+  // two touch lists per thread: the top band, then the rest, each with room for all its pairs
   split_touch_.resize(2 * nt);
   split_touch_prev_.resize(2 * nt);
-  for (std::size_t t = 0; t < nt; ++t) {
-    const int bounds[3] = {split_cross_[t], split_[t + 1], split_[t]};
-    for (std::size_t b = 0; b < 2; ++b) {
-      const std::int64_t np = b == 0 ? first[bounds[1]] - first[bounds[0]] : first[bounds[0]] - first[bounds[2]];
-      for (TouchList* l : {&split_touch_[2 * t + b], &split_touch_prev_[2 * t + b]}) {
-        l->k.resize(static_cast<std::size_t>(np) + 1);
-        l->n = 0;
-      }
+  auto size_lists = [&](std::size_t l, int row_lo, int row_hi) {
+    const auto np = static_cast<std::size_t>(first[row_hi] - first[row_lo]);
+    for (TouchList* list : {&split_touch_[l], &split_touch_prev_[l]}) {
+      list->k.resize(np + 1);
+      list->n = 0;
     }
+  };
+  for (std::size_t t = 0; t < nt; ++t) {
+    size_lists(2 * t, split_cross_[t], split_[t + 1]);
+    size_lists(2 * t + 1, split_[t], split_cross_[t]);
   }
   split_work_.resize(nt);
   for (std::size_t t = 0; t < nt; ++t) {

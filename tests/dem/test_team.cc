@@ -27,12 +27,7 @@ struct Variant {
 /// sleeping is on), and a spinning intruder ploughing along x through the middle.
 std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Variant& v) {
   gd::SystemOptions o;
-  o.box.xmin = -0.3;
-  o.box.xmax = 0.3;
-  o.box.ymin = -0.2;
-  o.box.ymax = 0.2;
-  o.box.periodic_x = true;
-  o.box.periodic_y = false;
+  o.box = {-0.3, 0.3, -0.2, 0.2, true, false};  // x, y bounds (m); periodic in x only
   o.dt = 2e-6;
   o.threads = threads;
   auto s = std::make_unique<gd::DemSystem>(o);

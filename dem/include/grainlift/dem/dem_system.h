@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -331,7 +332,8 @@ class DemSystem {
   int tune_backoff_ = 0;
   static constexpr int kMaxBackoff = 4;
   /// seconds and steps of the team trial so far, warm-up included (account_segment's early end)
-  double tune_early_[2] = {0, 0};
+  double tune_early_seconds_ = 0;
+  long long tune_early_steps_ = 0;
   static constexpr long long kEarlySteps = 200;
   bool team_fixed_ = false;            ///< set_team_fixed()
   std::int64_t steps_on_one_ = 0, steps_on_team_ = 0;
@@ -406,5 +408,25 @@ class DemSystem {
   bool primed_ = false;
   int builds_ = 0;
 };
+
+template <class F>
+inline void DemSystem::for_each_gap(F f) const {
+  for (int i = 0; i < n_grains_; ++i) {
+    for (std::int64_t k = nl_.first[i]; k < nl_.first[i + 1]; ++k) {
+      const int j = nl_.partner[k];
+      double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
+      opt_.box.min_image(dx, dy);
+      const double rs = p_.r[i] + p_.r[j];
+      f(rs - std::sqrt(dx * dx + dy * dy), p_.r[i], p_.r[j], i, j);
+    }
+  }
+  if (!intruder_.present) return;
+  for (int g : ic_.grain) {
+    double dx = p_.x[g] - intruder_.x, dy = p_.y[g] - intruder_.y;
+    opt_.box.min_image(dx, dy);
+    const double rs = p_.r[g] + intruder_.r;
+    f(rs - std::sqrt(dx * dx + dy * dy), p_.r[g], intruder_.r, g, -1);
+  }
+}
 
 }  // namespace grainlift::dem
