@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 #include "grainlift/dem/errors.h"
@@ -43,6 +44,7 @@ DemSystem::DemSystem(const SystemOptions& options) : opt_(options) {
 }
 
 void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Disk>& frozen) {
+  drives_.clear();
   n_grains_ = static_cast<int>(grains.size());
   n_total_ = n_grains_ + static_cast<int>(frozen.size());
   const std::size_t n = static_cast<std::size_t>(n_total_);
@@ -161,7 +163,22 @@ void DemSystem::move_frozen_each(int begin, int end, double dx, const std::vecto
   growth_since_build_ += std::hypot(dx, largest);  // the bound of move_frozen, per disk
 }
 
+void DemSystem::drive_frozen(int begin, int end, double dx, double dy, double vx, double vy,
+                             long long steps) {
+  if (begin < n_grains_ || end > n_total_ || begin > end)
+    throw std::invalid_argument("drive_frozen: not a range of frozen disks");
+  if (steps > 0) drives_.push_back({begin, end, dx, dy, vx, vy, steps});
+}
+
 void DemSystem::step_boundaries() {
+  if (!drives_.empty()) {
+    for (FrozenDrive& d : drives_) {
+      if (d.left-- > 0) move_frozen(d.begin, d.end, d.dx, d.dy, d.vx, d.vy);
+    }
+    drives_.erase(std::remove_if(drives_.begin(), drives_.end(),
+                                 [](const FrozenDrive& d) { return d.left <= 0; }),
+                  drives_.end());
+  }
   if (!lid_) return;
   if (lid_->free_disks()) {
     lid_force_y_.resize(std::size_t(lid_->disks()));

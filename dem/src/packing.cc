@@ -138,13 +138,37 @@ void read_back(const DemSystem& s, std::vector<double>& x, std::vector<double>& 
   r.assign(p.r.begin(), p.r.begin() + s.grains());
 }
 
+/// Reorders the grains (x, y, r together) into rows of cells one diameter wide, bottom row
+/// first, x order within a row: the memory order the neighbour list and the threads' slabs
+/// of rows want (docs/dem-model.md).
+void sort_into_rows(const DemConfig& c, std::vector<double>& x, std::vector<double>& y,
+                    std::vector<double>& r) {
+  const double d = c.grain_diameter;
+  const int ncx = std::max(1, static_cast<int>((c.xmax - c.xmin) / d));
+  std::vector<std::size_t> order(r.size());
+  std::vector<long> key(r.size());
+  for (std::size_t n = 0; n < r.size(); ++n) {
+    const long cx = std::min<long>(ncx - 1, std::max<long>(0, static_cast<long>((x[n] - c.xmin) / d)));
+    const long cy = static_cast<long>(std::floor((y[n] - c.ymin) / d));
+    key[n] = cy * ncx + cx;
+  }
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  for (std::vector<double>* v : {&x, &y, &r}) {
+    std::vector<double> sorted(v->size());
+    for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = (*v)[order[k]];
+    v->swap(sorted);
+  }
+}
+
 /// Kumar 2019 Sec. II's dense bed: the grains (radii @p r, full size) inserted at random in a
 /// box taller than @p c's, at area fraction kWallInsertPhi, then both walls close at
 /// c.compression_speed each, symmetrically about the box's centre line, to their places in
 /// @p c while the bed relaxes (frictionless: with friction a bed closed to Phi 0.8 jams, 3
 /// contacts per grain and 40x the drag, where Kumar's D ~ V0^2 with D_0 ~ 0 says theirs did
-/// not; the preparation's drag; the intruder at rest). Returns the positions in @p x, @p y.
-void compress_with_wall(const DemConfig& c, const std::vector<double>& r, std::mt19937_64& rng,
+/// not; the preparation's drag; the intruder at rest). Returns the positions in @p x, @p y;
+/// @p r comes back in the grains' new order (sorted into rows after the insertion).
+void compress_with_wall(const DemConfig& c, std::vector<double>& r, std::mt19937_64& rng,
                         std::vector<double>& x, std::vector<double>& y,
                         const std::function<void(double)>& report) {
   if (!c.wall_top || !c.wall_bottom || c.periodic_y || c.wall_left || c.wall_right)
@@ -164,6 +188,9 @@ void compress_with_wall(const DemConfig& c, const std::vector<double>& r, std::m
       << "compression box (area fraction " << kWallInsertPhi << ")";
     throw ConfigError(m.str());
   }
+  // Grains in rows, as in a prepared bed: in insertion order neighbours lie anywhere in
+  // memory and every pair crosses the threads' slabs.
+  sort_into_rows(tall, x, y, r);
   DemSystem s(system_options(tall));
   const std::vector<Disk> walls = make_wall_disks(tall);
   s.set_bodies(grain_disks(c, x, y, r), walls);
@@ -182,11 +209,15 @@ void compress_with_wall(const DemConfig& c, const std::vector<double>& r, std::m
   const double drop = tall.ymax - c.ymax;
   const long steps = std::max(1L, static_cast<long>(std::ceil(drop / (c.compression_speed * c.dt))));
   const double dy = drop / static_cast<double>(steps);
-  for (long k = 0; k < steps; ++k) {
-    s.move_frozen(s.grains() + b0, s.grains() + b1, 0.0, dy, 0.0, dy / c.dt);
-    s.move_frozen(s.grains() + t0, s.grains() + t1, 0.0, -dy, 0.0, -dy / c.dt);
-    s.step();
-    if (k % std::max(1L, steps / 20) == 0) report(0.6 * static_cast<double>(k) / steps);
+  // a move before every step: the first here, the others inside advance() (same bits)
+  s.move_frozen(s.grains() + b0, s.grains() + b1, 0.0, dy, 0.0, dy / c.dt);
+  s.move_frozen(s.grains() + t0, s.grains() + t1, 0.0, -dy, 0.0, -dy / c.dt);
+  s.drive_frozen(s.grains() + b0, s.grains() + b1, 0.0, dy, 0.0, dy / c.dt, steps - 1);
+  s.drive_frozen(s.grains() + t0, s.grains() + t1, 0.0, -dy, 0.0, -dy / c.dt, steps - 1);
+  const long chunk = std::max(1L, steps / 20);
+  for (long k = 0; k < steps; k += chunk) {
+    report(0.6 * static_cast<double>(k) / steps);
+    s.advance(std::min(chunk, steps - k));
   }
   std::vector<double> rr;
   read_back(s, x, y, rr);
@@ -319,7 +350,7 @@ std::uint64_t packing_hash(const DemConfig& c) {
   hash_value(h, c.seed);
   // radius-growth beds keep the key they had before the choice existed
   if (c.preparation == Preparation::wall_compression) {
-    const char stage[] = "wall-compression-both-walls-frictionless";
+    const char stage[] = "wall-compression-both-walls-frictionless-rows";
     hash_bytes(h, stage, sizeof stage);
     hash_value(h, c.compression_speed);
     if (!c.compression_drag) {  // beds closed under the drag keep their key
@@ -454,27 +485,12 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   }
   report(0.95);
 
-  // spatial order (rows of cells one diameter wide) for memory locality
-  const int ncx = std::max(1, static_cast<int>((c.xmax - c.xmin) / d));
-  std::vector<std::size_t> order(r.size());
-  std::vector<long> key(r.size());
-  for (std::size_t n = 0; n < r.size(); ++n) {
-    const long cx = std::min<long>(ncx - 1, std::max<long>(0, static_cast<long>((x[n] - c.xmin) / d)));
-    const long cy = static_cast<long>(std::floor((y[n] - c.ymin) / d));
-    key[n] = cy * ncx + cx;
-  }
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
-  bed.x.resize(r.size());
-  bed.y.resize(r.size());
-  bed.r.resize(r.size());
+  sort_into_rows(c, x, y, r);
+  bed.x = x;
+  bed.y = y;
+  bed.r = r;
   double total = 0;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    bed.x[k] = x[order[k]];
-    bed.y[k] = y[order[k]];
-    bed.r[k] = r[order[k]];
-    total += kPi * bed.r[k] * bed.r[k];
-  }
+  for (double v : r) total += kPi * v * v;
   bed.area_fraction = total / area;
   if (!cache.empty()) save_cache(cache, hash, bed);
   report(1);

@@ -168,6 +168,12 @@ class DemSystem {
   /// (dx, dy) m, wrapped into the box, with (vx, vy) m/s as their velocity in the contact law
   /// (a prescribed wall; the lid and the bed preparation's closing wall use it).
   void move_frozen(int begin, int end, double dx, double dy, double vx, double vy);
+  /// @brief The same move after the forces of each of the next @p steps steps (before the
+  /// kick), inside advance(): a wall closing at a constant speed without one advance() call
+  /// per step. n calls of move_frozen each followed by step() give the bits of one move_frozen,
+  /// drive_frozen(..., n - 1) and advance(n). Drives act in the order they were added;
+  /// set_bodies() drops them.
+  void drive_frozen(int begin, int end, double dx, double dy, double vx, double vy, long long steps);
   /// The lid, or nullptr without one.
   const PressureLid* lid() const { return lid_ ? &*lid_ : nullptr; }
   /// @brief Force (N; x, y) of the grains on the frozen disks [begin, end) at the last step,
@@ -376,6 +382,12 @@ class DemSystem {
   bool drifted_ = false;  ///< inside advance(): the next step's kick and drift are done
   NeighborList nl_;
   std::optional<PressureLid> lid_;
+  struct FrozenDrive {
+    int begin, end;
+    double dx, dy, vx, vy;
+    long long left;  ///< steps still to move
+  };
+  std::vector<FrozenDrive> drives_;  ///< drive_frozen(), applied by step_boundaries()
   Intruder intruder_;
   IntruderContacts ic_;
   IntruderContacts ic_old_;
