@@ -306,9 +306,11 @@ void DemSystem::choose_team() {
         const double team = tune_seconds_[1] / double(std::max(1LL, tune_steps_[1]));
         tune_best_ = team < one ? team_max_ : 1;
         tune_backoff_ = tune_best_ > 1 ? 0 : std::min(kMaxBackoff, tune_backoff_ + 1);
+        ++tune_trials_;
       }
       tune_phase_ = (tune_phase_ + 1) % 3;
       tune_left_ = tune_phase_ == 2 ? kExploitSteps << tune_backoff_ : kWarmSteps + kTrialSteps;
+      tune_exploit_elapsed_ = 0;
       if (tune_phase_ == 0) {
         tune_seconds_[0] = tune_seconds_[1] = 0;
         tune_steps_[0] = tune_steps_[1] = 0;
@@ -338,6 +340,15 @@ void DemSystem::account_segment(long long steps, double seconds) {
             3.0 * tune_seconds_[0] / double(tune_steps_[0])) {
       tune_seconds_[1] = tune_early_seconds_;
       tune_steps_[1] = tune_early_steps_;
+      tune_left_ = 0;
+      return;
+    }
+  }
+  // The exploit phase ends after opt_.tune_exploit_seconds too (large beds: many seconds per
+  // thousand steps).
+  if (tune_phase_ == 2) {
+    tune_exploit_elapsed_ += seconds;
+    if (tune_exploit_elapsed_ >= opt_.tune_exploit_seconds) {
       tune_left_ = 0;
       return;
     }

@@ -26,11 +26,13 @@ struct Variant {
 /// A periodic strip (x) between two rows of frozen wall disks, filled with grains on a jittered
 /// triangular lattice, random velocities in the middle and at rest at both ends (sleepers when
 /// sleeping is on), and a spinning intruder ploughing along x through the middle.
-std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Variant& v) {
+std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Variant& v,
+                                              double exploit_seconds = 120) {
   gd::SystemOptions o;
   o.box = {-0.3, 0.3, -0.2, 0.2, true, false};  // x, y bounds (m); periodic in x only
   o.dt = 2e-6;
   o.threads = threads;
+  o.tune_exploit_seconds = exploit_seconds;
   auto s = std::make_unique<gd::DemSystem>(o);
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -173,5 +175,24 @@ TEST(Team, DrivenWallGivesTheBitsOfAMoveBeforeEachStep) {
     std::size_t differ = 0;
     for (std::size_t k = 0; k < got.size(); ++k) differ += bits(got[k]) != bits(ref[k]);
     EXPECT_EQ(differ, 0u) << threads << " threads";
+  }
+}
+
+// Physics: none - the thread tuner (trials of one thread and of the team, then the faster for
+// an exploit phase) must try again once the exploit phase has run tune_exploit_seconds, not
+// only after its 100,000+ steps: on a large bed those steps are an hour. 12,000 steps of the
+// ploughed strip on two threads: with the default (120 s) one pair of trials (2 x 2,500 steps)
+// and the exploit phase to the end; with 0 s the exploit phase ends after its first segment
+// and the trials repeat. Tolerance: exact counts (they do not depend on which side wins).
+TEST(Team, TunerTriesAgainAfterItsExploitTime) {
+  for (const double seconds : {120.0, 0.0}) {
+    auto s = ploughed_strip(2, false, {}, seconds);
+    ASSERT_EQ(s->threads_allowed(), 2);
+    s->advance(12000);
+    if (seconds > 0) {
+      EXPECT_EQ(s->tuner_trials(), 1) << "one pair of trials, then 7,000 steps of exploit";
+    } else {
+      EXPECT_GE(s->tuner_trials(), 2) << "the exploit phase must end on time";
+    }
   }
 }

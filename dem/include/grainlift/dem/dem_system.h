@@ -36,6 +36,10 @@ struct SystemOptions {
   double dt = 2e-6;       ///< s
   double skin = 0;        ///< m, Verlet skin (0: 0.1 of the largest diameter)
   int threads = 1;        ///< OpenMP threads (at most one per kMinGrainsPerThread grains)
+  /// s: the thread tuner's exploit phase ends after this much wall time even when its steps
+  /// (DemSystem::kExploitSteps << backoff) are not done: on a bed of 60,000 grains 1.6 M steps
+  /// on one thread are more than an hour after the load that made the team lose has gone.
+  double tune_exploit_seconds = 120;
   std::array<double, 2> gravity{0, 0};  ///< m/s^2, on grains only
 };
 
@@ -172,7 +176,7 @@ class DemSystem {
   /// kick), inside advance(): a wall closing at a constant speed without one advance() call
   /// per step. n calls of move_frozen each followed by step() give the bits of one move_frozen,
   /// drive_frozen(..., n - 1) and advance(n). Drives act in the order they were added;
-  /// set_bodies() drops them.
+  /// set_bodies() drops them; a snapshot (system_snapshot.cc) does not hold them.
   void drive_frozen(int begin, int end, double dx, double dy, double vx, double vy, long long steps);
   /// The lid, or nullptr without one.
   const PressureLid* lid() const { return lid_ ? &*lid_ : nullptr; }
@@ -230,6 +234,8 @@ class DemSystem {
   /// Steps run on one thread and on the team so far.
   std::int64_t steps_on_one_thread() const { return steps_on_one_; }
   std::int64_t steps_on_team() const { return steps_on_team_; }
+  /// Pairs of trials (one thread, then the team) the tuner has finished.
+  std::int64_t tuner_trials() const { return tune_trials_; }
 
  private:
   void build_lists();
@@ -336,6 +342,8 @@ class DemSystem {
   /// it (up to kMaxBackoff), a win resets it, so that under lasting load from another process
   /// (where a team step can take ten times a one-thread step) the trials become rare.
   int tune_backoff_ = 0;
+  double tune_exploit_elapsed_ = 0;  ///< s of the current exploit phase (opt_.tune_exploit_seconds)
+  std::int64_t tune_trials_ = 0;     ///< tuner_trials()
   static constexpr int kMaxBackoff = 4;
   /// seconds and steps of the team trial so far, warm-up included (account_segment's early end)
   double tune_early_seconds_ = 0;
