@@ -17,6 +17,8 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/system_setup.h"
@@ -210,10 +212,13 @@ void compress_with_wall(const DemConfig& c, std::vector<double>& r, std::mt19937
   const long steps = std::max(1L, static_cast<long>(std::ceil(drop / (c.compression_speed * c.dt))));
   const double dy = drop / static_cast<double>(steps);
   // a move before every step: the first here, the others inside advance() (same bits)
-  s.move_frozen(s.grains() + b0, s.grains() + b1, 0.0, dy, 0.0, dy / c.dt);
-  s.move_frozen(s.grains() + t0, s.grains() + t1, 0.0, -dy, 0.0, -dy / c.dt);
-  s.drive_frozen(s.grains() + b0, s.grains() + b1, 0.0, dy, 0.0, dy / c.dt, steps - 1);
-  s.drive_frozen(s.grains() + t0, s.grains() + t1, 0.0, -dy, 0.0, -dy / c.dt, steps - 1);
+  for (const auto& [lo, hi, sign] : {std::tuple{b0, b1, 1.0}, std::tuple{t0, t1, -1.0}}) {
+    s.move_frozen(s.grains() + lo, s.grains() + hi, 0.0, sign * dy, 0.0, sign * dy / c.dt);
+  }
+  for (const auto& [lo, hi, sign] : {std::tuple{b0, b1, 1.0}, std::tuple{t0, t1, -1.0}}) {
+    s.drive_frozen(s.grains() + lo, s.grains() + hi, 0.0, sign * dy, 0.0, sign * dy / c.dt,
+                   steps - 1);
+  }
   const long chunk = std::max(1L, steps / 20);
   for (long k = 0; k < steps; k += chunk) {
     report(0.6 * static_cast<double>(k) / steps);
@@ -486,11 +491,11 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   report(0.95);
 
   sort_into_rows(c, x, y, r);
-  bed.x = x;
-  bed.y = y;
-  bed.r = r;
+  bed.x = std::move(x);
+  bed.y = std::move(y);
+  bed.r = std::move(r);
   double total = 0;
-  for (double v : r) total += kPi * v * v;
+  for (double v : bed.r) total += kPi * v * v;
   bed.area_fraction = total / area;
   if (!cache.empty()) save_cache(cache, hash, bed);
   report(1);
