@@ -214,8 +214,6 @@ void compress_with_wall(const DemConfig& c, std::vector<double>& r, std::mt19937
   // a move before every step: the first here, the others inside advance() (same bits)
   for (const auto& [lo, hi, sign] : {std::tuple{b0, b1, 1.0}, std::tuple{t0, t1, -1.0}}) {
     s.move_frozen(s.grains() + lo, s.grains() + hi, 0.0, sign * dy, 0.0, sign * dy / c.dt);
-  }
-  for (const auto& [lo, hi, sign] : {std::tuple{b0, b1, 1.0}, std::tuple{t0, t1, -1.0}}) {
     s.drive_frozen(s.grains() + lo, s.grains() + hi, 0.0, sign * dy, 0.0, sign * dy / c.dt,
                    steps - 1);
   }
