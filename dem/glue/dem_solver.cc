@@ -324,6 +324,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.sample_every = c.dem.sample_every;
   d.field_every = c.dem.field_every;
   d.frictionless_path = c.dem.frictionless_path;
+  d.window_width = c.dem.window_width;
   d.sleep_speed = c.dem.sleep ? c.dem.sleep_speed * std::hypot(c.intruder.velocity[0], c.intruder.velocity[1]) : -1.0;
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
@@ -474,6 +475,11 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
         "; PARTIAL: interrupted at step {} of {} ({:.3g} of {:g} d of travel){}", out.steps,
         out.planned_steps, c.dem.travel * double(out.steps) / double(out.planned_steps),
         c.dem.travel, checkpoints ? "; a checkpoint was written: grainlift run CASE --resume DIR goes on" : "");
+  }
+  if (out.window) {
+    r.diagnostics.values["window_band_grains"] = out.window_band_grains;
+    r.diagnostics.values["window_matched_fraction"] = out.window_matched_fraction;
+    r.diagnostics.values["window_core_rms"] = out.window_core_rms;
   }
   if (cfg.sleep_speed >= 0) {
     r.diagnostics.values["sleeping_fraction"] = out.sleeping_fraction;

@@ -167,6 +167,13 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   s.set_frictionless_path(c.frictionless_path);  // the run keeps its mu: no spring is ever read
   out.frictionless_path = s.frictionless_path_active();
   s.set_sleep(c.sleep_speed);
+  if (c.window_width > 0) {
+    // the sites are the prepared bed's positions (a resumed run takes them from its checkpoint)
+    const double width = c.window_width * d;
+    const double v = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
+    s.set_window(width, c.window_rate * v / width, c.window_match_radius * d);
+    out.window = true;
+  }
   if (c.lid_pressure > 0) {
     s.attach_lid(PressureLid(c, s));
     out.lid_mass = s.lid()->mass();
@@ -374,6 +381,12 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   out.steps_on_team = s.steps_on_team();
   if (s.steps() > 0) {
     out.sleeping_fraction = s.sleeping_grain_steps() / (double(s.steps()) * std::max(1, s.grains()));
+  }
+  if (out.window) {
+    const DemSystem::WindowStats ws = s.window_stats();
+    out.window_band_grains = ws.band_grains;
+    out.window_matched_fraction = ws.matched_fraction;
+    out.window_core_rms = ws.core_rms / d;
   }
   out.sleep_wakes = s.woken();
   out.sleep_wake_builds = s.wake_builds();

@@ -24,6 +24,8 @@ bool DemSystem::rebuild_due(double max_d2, double intruder_disp, bool fresh) con
   if (fresh) return false;
   // a sleeper woke: its pairs with other sleepers must be listed before it moves again
   if (__atomic_load_n(&wake_pending_, __ATOMIC_RELAXED)) return true;
+  // the co-moving window matches grains to sites at fixed steps (comoving_window.cc)
+  if (window_.width > 0 && steps_ >= window_.next_match) return true;
   const double md = std::sqrt(max_d2) + build_round_ + growth_since_build_;
   return 2.0 * md > skin_ || intruder_disp + md > skin_;
 }
@@ -61,8 +63,9 @@ long long DemSystem::run_segment(long long m) {
     d2 = 0;
     for (int c = 0; c < chunks(); ++c) {
       const int lo = c * kChunkRows;
+      // advance_clock has counted this step: the positions are those of steps_
       d2 = std::max(d2, finish_rows(lo, std::min(n_grains_, lo + kChunkRows),
-                                    last ? Kick::sync : Kick::drift, nullptr));
+                                    last ? Kick::sync : Kick::drift, nullptr, steps_));
     }
     if (last) break;
   }
@@ -250,18 +253,20 @@ long long DemSystem::run_segment_team(long long m) {
                    max_ov, full_check, shared);
       const bool last = s + 1 == m;
       const Kick mode = last ? Kick::sync : Kick::drift;
+      // the clock counts this step in the barrier below (read here after the last barrier)
+      const std::int64_t kick_step = steps_ + 1;
       double d2 = 0;
       if (t > 0) {
         // the rows no lower range reaches, once the intruder's contacts are known
         wait_until([&] { return slot[0].intruder_done.load(std::memory_order_acquire) > s; });
-        d2 = finish_rows(reach, hi, mode, shared);
+        d2 = finish_rows(reach, hi, mode, shared, kick_step);
       }
       const auto t1 = Clock::now();
       for (int u = 0; u < t; ++u) {
         wait_until([&] { return slot[u].band_done.load(std::memory_order_acquire) > s; });
       }
       const auto t2 = Clock::now();
-      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, shared));
+      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, shared, kick_step));
       busy += (t1 - t0) + (Clock::now() - t2);
       barrier.wait([&] {
         completed = s + 1;

@@ -8,6 +8,7 @@
 
 #include "grainlift/dem/dem_system.h"
 #include "step_kernels.h"
+#include "window_band.h"
 
 namespace grainlift::dem {
 
@@ -21,7 +22,7 @@ inline std::uint64_t bits(double v) {
 }  // namespace
 
 template <DemSystem::Kick kMode>
-double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
+double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared, std::int64_t kick_step) {
   const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
   const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
@@ -64,10 +65,24 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   // others one by one, a group of eight at a time.
   const bool simd = kMode != Kick::first && detail::avx512_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
+  // grains the vector kick leaves to the loop below: the intruder's candidates and the
+  // grains in reach of the co-moving window's band
+  constexpr std::uint8_t kGeneral = kCandidate | kWindow;
   detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
                           dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
                           sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
-                          kCandidate, kAccelSet, box};
+                          kGeneral, kAccelSet, box};
+  detail::WindowBand band;
+  if (window_.width > 0) {
+    band.centre = window_centre(kick_step);
+    band.half = 0.5 * window_.width;
+    band.phase = M_PI / window_.width;
+    band.rate = window_.rate;
+    band.site_x = window_.site_x.data();
+    band.site_y = window_.site_y.data();
+    band.target = window_.target.data();
+    band.box = box;
+  }
   for (int i = lo; i < hi;) {
     if (simd) {
       const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);
@@ -81,7 +96,7 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
     if (dormant && dormant[i]) continue;  // asleep: the kick leaves its bits (sleeping.cc)
     double axn, ayn, aln;
     const std::uint8_t fl = flags[i];
-    if (!touched[i] && !(fl & kCandidate)) {
+    if (!touched[i] && !(fl & kGeneral)) {
       axn = ax0;
       ayn = ay0;
       aln = al0;
@@ -128,6 +143,7 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
     axn = fx * inv_m[i] + gx;
     ayn = fy * inv_m[i] + gy;
     aln = tq * inv_i[i];
+    if (fl & kWindow) band.add(i, px[i], py[i], vx[i], vy[i], w[i], axn, ayn, aln);
     ax[i] = axn;
     ay[i] = ayn;
     al[i] = aln;
@@ -161,10 +177,11 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   return maxd2;
 }
 
-double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared) {
-  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi, shared);
-  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi, shared);
-  return finish_impl<Kick::first>(lo, hi, shared);
+double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared,
+                              std::int64_t kick_step) {
+  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi, shared, kick_step);
+  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi, shared, kick_step);
+  return finish_impl<Kick::first>(lo, hi, shared, kick_step);
 }
 
 double DemSystem::drift_rows(int lo, int hi) {

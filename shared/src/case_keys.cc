@@ -131,6 +131,11 @@ std::vector<KeySpec> make_keys() {
                    "with dem.sleep: grains at most this fraction of the intruder speed may sleep "
                    "and are stopped; 0: only grains exactly at rest (the same trajectories as "
                    "without sleeping, bit for bit)"));
+  k.push_back(real("dem.window_width", false, "0.0", 0, 1e6, false, false, "d",
+                   "co-moving window: a band this wide, half a box length from the intruder "
+                   "and moving with it, pulls the grains back onto the prepared bed's sites, so "
+                   "that the intruder meets the prepared bed instead of its own wake coming "
+                   "round the periodic box (docs/performance.md); 0: off"));
   k.push_back(real("dem.checkpoint_minutes", false, "10.0", 0, 1e6, false, false, "min",
                    "wall time between checkpoints (<out>/dem.checkpoint; `grainlift run CASE "
                    "--resume DIR` goes on from it); 0: only when interrupted"));

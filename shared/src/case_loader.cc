@@ -309,6 +309,8 @@ Vec2 get_vec2(const toml::table& r, const std::string& path) {
   return {0, 0};
 }
 
+double Lx_of(const DomainSection& d) { return d.x_range[1] - d.x_range[0]; }
+
 void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   auto where = [&](const std::string& path) { return diag.where(path, r.at_path(path).node()); };
   const auto& d = c.domain;
@@ -345,6 +347,20 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
     diag.error(where("dem.steady_travel"),
                fmt::format("dem.steady_travel = {} must be less than dem.travel = {}",
                            c.dem.steady_travel, c.dem.travel));
+  if (c.dem.window_width > 0) {
+    // the band stays at least one intruder diameter from the intruder's surface
+    const double widest = (Lx_of(d) - 3.0 * in.diameter) / c.grains.diameter;
+    if (!d.periodic[0] || in.velocity[1] != 0.0)
+      diag.error(where("dem.window_width"),
+                 "dem.window_width needs domain.periodic[0] = true and an intruder moving along "
+                 "x (intruder.velocity = [V, 0]): the band lies half a box from it along x");
+    else if (c.dem.window_width > widest)
+      diag.error(where("dem.window_width"),
+                 fmt::format("dem.window_width = {} d must lie in (0, {:.4g}] d: the band, half a "
+                             "box length from the intruder, must stay one intruder diameter from "
+                             "its surface (box length - 3 intruder diameters, in grain diameters)",
+                             c.dem.window_width, std::max(0.0, widest)));
+  }
   if (c.continuum.mu_2 < c.continuum.mu_s)
     diag.error(where("continuum.mu_2"),
                fmt::format("continuum.mu_2 = {} must be >= continuum.mu_s = {}", c.continuum.mu_2,
@@ -511,6 +527,7 @@ Case build_case(const toml::table& root) {
   dm.checkpoint_minutes = get_real(r, "dem.checkpoint_minutes");
   dm.checkpoint_steps = get_int(r, "dem.checkpoint_steps");
   dm.sleep_speed = get_real(r, "dem.sleep_speed");
+  dm.window_width = get_real(r, "dem.window_width");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));
   dm.field_every = int(get_int(r, "dem.field_every"));

@@ -347,6 +347,51 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 
+// Physics: the co-moving window's state is part of the checkpoint (the prepared bed's sites,
+// the band's start, each grain's site of the last build), so a run with the window resumed
+// from a checkpoint gives the uninterrupted run's samples bit for bit (exact equality), on one
+// and two threads; and the window acts: the samples are not those of the run without it. A
+// checkpoint taken without the window is refused by a run with it.
+TEST(Simulation, ResumedRunWithTheWindowGivesTheBitsOfTheUninterruptedRun) {
+  auto c = small_case(30, 20, 0.8);
+  c.seed = 22;
+  c.travel = 1.5;
+  c.steady_travel = 0.5;
+  c.packing_cache_dir = temp_cache_dir("resume_window");
+  const auto without = gd::run_simulation(c);
+  c.window_width = 8;  // at most (30 - 3 x 5) d
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    c.threads = threads;
+    const auto whole = gd::run_simulation(c);
+    EXPECT_TRUE(whole.window);
+    EXPECT_GT(whole.window_band_grains, 50.0);
+    EXPECT_GT(whole.window_matched_fraction, 0.9);
+    bool differ = false;
+    for (std::size_t k = 0; k < whole.samples.size() && k < without.samples.size(); ++k) {
+      differ = differ || whole.samples[k].fx != without.samples[k].fx;
+    }
+    EXPECT_TRUE(differ) << "the window must change the run";
+    std::vector<std::vector<unsigned char>> saved;
+    gd::RunControl control;
+    control.checkpoint_steps = 1000;
+    control.checkpoint = [&](const gd::RunCheckpoint& ck) { saved.push_back(gd::encode_checkpoint(ck)); };
+    gd::run_simulation(c, {}, {}, control);
+    ASSERT_GE(saved.size(), 2u);
+    const gd::RunCheckpoint ck = gd::decode_checkpoint(saved[1]);
+    gd::RunControl go_on;
+    go_on.resume = &ck;
+    const auto resumed = gd::run_simulation(c, {}, {}, go_on);
+    expect_same_samples(whole, resumed);
+    EXPECT_EQ(whole.window_core_rms, resumed.window_core_rms);
+    // the same checkpoint resumed by a run without the window: refused
+    auto off = c;
+    off.window_width = 0;
+    EXPECT_THROW(gd::run_simulation(off, {}, {}, go_on), gd::ConfigError);
+  }
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
 // Physics: without gravity a bed at rest overlaps only when it is compressed beyond jamming
 // (these disks jam near Phi 0.84). At Phi 0.9 the prepared bed overlaps by ~6% of a diameter at
 // rest, more than half of max_overlap_fraction (0.1): the run is refused before its first step

@@ -8,7 +8,7 @@
 // The first byte picks how the rest becomes checkpoint bytes:
 //   0  as they are (the magic, format and checksum checks meet mutated bytes);
 //   1  magic + rest + FNV-1a 64 checksum of both (the format word comes from the input);
-//   2  magic + format 1 + rest + checksum: every input reaches the payload parser.
+//   2  magic + format 2 + rest + checksum: every input reaches the payload parser.
 // Without modes 1 and 2 almost no mutation would get past the checksum.
 #include <cstdint>
 #include <cstring>

@@ -150,6 +150,26 @@ class DemSystem {
   int wake_builds() const { return wake_builds_; }
   /// Grains woken by contact so far.
   long long woken() const { return woken_; }
+  /// @brief The co-moving window (comoving_window.cc): a band @p width m wide across the box,
+  /// centred half a box length (x) from the intruder and moving with it, pulls the grains in it
+  /// onto the sites of the bed as it is at this call (the prepared bed), so that the intruder
+  /// meets that bed again instead of its own wake coming round the periodic box. No grain is
+  /// added or removed. At every list build each grain in the band is given the nearest free
+  /// site within @p match_radius m (greedy, closest pairs first; a grain without one, as in the
+  /// prepared bed's hole where the intruder started, is left free); in the band a grain feels
+  /// a = -s rate^2 (x - site) - 2 sqrt(s) rate v (and alpha = -2 sqrt(s) rate omega) with
+  /// s = sin^2(pi xi), xi in [0, 1] across the band: zero at its edges. Needs the intruder
+  /// (set_intruder first), moving along x in a box periodic in x; @p width 0 turns it off (no
+  /// grain is ever flagged: the same bits as without the call).
+  void set_window(double width, double rate, double match_radius);
+  /// Averages over the list builds with the window on: grains in the band, the fraction of
+  /// them given a site, and the rms distance (m) to their sites of those in the band's middle
+  /// half (how well the band restores the bed).
+  struct WindowStats {
+    long long builds = 0;
+    double band_grains = 0, matched_fraction = 0, core_rms = 0;
+  };
+  WindowStats window_stats() const;
   /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
   void set_background_damping(double rate) { damping_rate_ = rate; }
   /// @brief Multiply every grain radius by factor (soft compression by radius growth).
@@ -268,9 +288,11 @@ class DemSystem {
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
   /// Grains with @p shared set (nullptr: none) sum their stored pair forces (range_forces).
-  double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared);
+  /// @p kick_step: the step count whose positions the accelerations are of (the window's band
+  /// moves with it).
+  double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared, std::int64_t kick_step);
   template <Kick kMode>
-  double finish_impl(int lo, int hi, const std::uint8_t* shared);
+  double finish_impl(int lo, int hi, const std::uint8_t* shared, std::int64_t kick_step);
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
@@ -286,6 +308,13 @@ class DemSystem {
   /// Sleeping grains (set_sleep): choose the sleepers from the new, full list and remove
   /// their pairs from it (sleeping.cc). Called by build_lists() right after the list build.
   void update_sleep();
+  /// The co-moving window (set_window): flag the grains in reach of the band and give each a
+  /// site (comoving_window.cc). Called by build_lists() before update_sleep().
+  void update_window();
+  /// The co-moving window's per-grain arrays sized and its sites sorted into bins.
+  void index_window_sites();
+  /// The band's centre (m, x) at step @p step.
+  double window_centre(std::int64_t step) const;
   /// Wake the sleepers among the grains of touching pair (i, j) (pair loop; any thread).
   void wake(int i, int j);
   /// Intruder radii beyond its surface within which no grain sleeps, and the list hops over
@@ -403,11 +432,38 @@ class DemSystem {
   /// per grain: kCandidate if ic_slot_ >= 0; kAccelSet unless ax, ay, alpha hold exactly the
   /// accelerations of a grain without any force (then the final kick need not store them)
   std::vector<std::uint8_t> grain_flags_;
-  static constexpr std::uint8_t kCandidate = 1, kAccelSet = 2;
+  /// kWindow: within reach of the co-moving window's band (update_window)
+  static constexpr std::uint8_t kCandidate = 1, kAccelSet = 2, kWindow = 4;
   /// per grain: 1 if a listed pair of the grain touches at this step (set by the pair loop,
   /// cleared by the final kick; the kick of a grain without contact reads no pair force)
   std::vector<std::uint8_t> touched_;
   double build_round_ = 0;  ///< m, bound on the float rounding of x_build, y_build
+  // ---- the co-moving window (set_window, comoving_window.cc)
+  struct Window {
+    double width = 0;          ///< m; 0: off
+    double rate = 0;           ///< 1/s
+    double match_radius = 0;   ///< m
+    double x0 = 0;             ///< m, the band's centre at step0
+    double vx = 0;             ///< m/s
+    std::int64_t step0 = 0;
+    /// Grains are matched to sites at the first list build at or after step next_match, then
+    /// every match_every steps (a build is forced there: rebuild_due). The matching happens at
+    /// fixed steps, not at every build, because when the lists are built depends on history
+    /// (a resumed run, a woken sleeper) while the results must not.
+    std::int64_t match_every = 1, next_match = 0;
+    std::vector<double> site_x, site_y;  ///< the prepared bed's positions (one site per grain)
+    std::vector<int> target;   ///< per grain: its site, or -1
+    std::vector<int> flagged;  ///< grains flagged kWindow at the last build
+    std::vector<int> bin_first, bin_site;  ///< sites by x bins of >= match_radius
+    double bin_width = 0;
+    std::vector<std::uint8_t> taken;  ///< scratch: per site, given at this build
+    struct Candidate {
+      double d2;
+      int grain, site;
+    };
+    std::vector<Candidate> candidates;  ///< scratch
+    WindowStats sums;  ///< sums over builds (averaged by window_stats())
+  } window_;
   // ---- sleeping grains (set_sleep, sleeping.cc)
   double sleep_speed_ = -1;   ///< m/s; < 0: off
   bool sleep_active_ = false;  ///< some body is dormant in the current list
