@@ -144,6 +144,10 @@ void put_system(Writer& w, const SystemSnapshot& s) {
   w.put_vector(s.window_site_x);
   w.put_vector(s.window_site_y);
   w.put_vector(s.window_target);
+  w.put_vector(s.window_image_x);
+  w.put_vector(s.window_image_y);
+  for (double v : {s.window_off_x, s.window_off_y, s.window_vel_x, s.window_vel_y}) w.put(v);
+  w.put(s.window_match_step);
   w.put(s.window_builds);
   for (double v : {s.window_band_grains, s.window_matched_fraction, s.window_core_rms}) w.put(v);
 }
@@ -191,6 +195,12 @@ SystemSnapshot get_system(Reader& r) {
   s.window_site_x = r.get_vector<double>();
   s.window_site_y = r.get_vector<double>();
   s.window_target = r.get_vector<std::int32_t>();
+  s.window_image_x = r.get_vector<std::int32_t>();
+  s.window_image_y = r.get_vector<std::int32_t>();
+  for (double* v : {&s.window_off_x, &s.window_off_y, &s.window_vel_x, &s.window_vel_y}) {
+    *v = r.get<double>();
+  }
+  s.window_match_step = r.get<std::int64_t>();
   s.window_builds = r.get<std::int64_t>();
   for (double* v : {&s.window_band_grains, &s.window_matched_fraction, &s.window_core_rms}) {
     *v = r.get<double>();
@@ -218,7 +228,8 @@ SystemSnapshot get_system(Reader& r) {
     if (g < 0 || std::size_t(g) >= ng) throw CheckpointError("corrupt checkpoint: no such grain");
   }
   const std::size_t ns = s.window_site_x.size();
-  if (ns != 0 && (ns != ng || s.window_site_y.size() != ng || s.window_target.size() != ng)) {
+  if (ns != 0 && (ns != ng || s.window_site_y.size() != ng || s.window_target.size() != ng ||
+                  s.window_image_x.size() != ng || s.window_image_y.size() != ng)) {
     throw CheckpointError("corrupt checkpoint: the window's sites of another number of grains");
   }
   for (std::int32_t t : s.window_target) {

@@ -1,7 +1,8 @@
 // The co-moving window (DemSystem::set_window): a band across the box, half a box length
 // from the intruder and moving with it, pulls the grains inside it back onto the sites of the
 // prepared bed, so that the intruder, coming round the periodic box, meets that bed again
-// instead of its own wake. No grain is added or removed: the area fraction is that of the
+// instead of its own wake. The sites move with the band's grains when the bed slides along the
+// box as a whole: the band restores the bed's structure, it does not hold the bed in place. No grain is added or removed: the area fraction is that of the
 // prepared bed exactly.
 //
 // Sites, not each grain's own position: the prepared bed has a hole where the intruder
@@ -62,6 +63,10 @@ void DemSystem::index_window_sites() {
   const PeriodicBox& box = opt_.box;
   const auto n = static_cast<std::size_t>(n_grains_);
   w.target.assign(n, -1);
+  w.image_x.assign(n, 0);
+  w.image_y.assign(n, 0);
+  w.last_x.assign(p_.x.begin(), p_.x.begin() + n_grains_);
+  w.last_y.assign(p_.y.begin(), p_.y.begin() + n_grains_);
   w.taken.assign(n, 0);
   // sites by bins along x, at least match_radius wide: a grain's candidates lie in its own
   // bin and the two beside it
@@ -93,6 +98,18 @@ void DemSystem::update_window() {
   Window& w = window_;
   if (!(w.width > 0)) return;
   const PeriodicBox& box = opt_.box;
+  // box lengths crossed since the last build (a grain moves far less than half a box between
+  // builds): the counts, unlike sums of displacements, do not depend on when builds happen
+  const double lx = box.lx(), ly = box.ly();
+  for (int g = 0; g < n_grains_; ++g) {
+    const double jx = p_.x[g] - w.last_x[g], jy = p_.y[g] - w.last_y[g];
+    if (box.periodic_x && jx < -0.5 * lx) ++w.image_x[g];
+    if (box.periodic_x && jx > 0.5 * lx) --w.image_x[g];
+    if (box.periodic_y && jy < -0.5 * ly) ++w.image_y[g];
+    if (box.periodic_y && jy > 0.5 * ly) --w.image_y[g];
+    w.last_x[g] = p_.x[g];
+    w.last_y[g] = p_.y[g];
+  }
   for (int g : w.flagged) grain_flags_[g] &= static_cast<std::uint8_t>(~kWindow);
   w.flagged.clear();
   // Until the next build the band moves by less than the skin (the intruder's displacement
@@ -111,18 +128,47 @@ void DemSystem::update_window() {
   if (steps_ < w.next_match) return;  // the sites stay those of the last matching
   w.next_match = (steps_ / w.match_every + 1) * w.match_every;
   std::fill(w.target.begin(), w.target.end(), -1);
-  // candidate pairs (grain, site) within match_radius
+  // Where the sites are now: the bed may slide along the box as a whole, and sites held in
+  // place would hold it back (on the reduced Kumar bed, three times the drag). The median
+  // displacement (from each grain's own starting position) and the median velocity of the
+  // grains in the band's middle half: medians, so that the grains the intruder stirred, or
+  // that wandered into its old hole, do not move the sites.
+  {
+    auto median = [&](auto value) {
+      w.scratch.clear();
+      for (int g : w.flagged) {
+        double dx = p_.x[g] - centre, dy = 0;
+        box.min_image(dx, dy);
+        if (std::fabs(dx) < 0.25 * w.width) w.scratch.push_back(value(g));
+      }
+      if (w.scratch.empty()) return 0.0;
+      const auto mid = w.scratch.begin() + static_cast<std::ptrdiff_t>(w.scratch.size() / 2);
+      std::nth_element(w.scratch.begin(), mid, w.scratch.end());
+      return *mid;
+    };
+    w.off_x = median([&](int g) { return p_.x[g] + w.image_x[g] * lx - w.site_x[g]; });
+    w.off_y = median([&](int g) { return p_.y[g] + w.image_y[g] * ly - w.site_y[g]; });
+    w.vel_x = median([&](int g) { return p_.vx[g]; });
+    w.vel_y = median([&](int g) { return p_.vy[g]; });
+    // inside advance() the positions have already drifted to the next step's (drifted_)
+    w.match_step = drifted_ ? steps_ + 1 : steps_;
+  }
+  // candidate pairs (grain, site) within match_radius of the moved sites
   const double r2 = w.match_radius * w.match_radius;
   const int nb = static_cast<int>(w.bin_first.size()) - 1;
   w.candidates.clear();
   for (int g : w.flagged) {
-    const int b = std::min(nb - 1, std::max(0, static_cast<int>((p_.x[g] - box.xmin) / w.bin_width)));
+    // the grain where it would be without the slide, among the sites where they were set
+    double gx = p_.x[g] - w.off_x, gy = p_.y[g] - w.off_y;
+    gx = box.xmin + std::fmod(gx - box.xmin, lx);
+    if (gx < box.xmin) gx += lx;
+    const int b = std::min(nb - 1, std::max(0, static_cast<int>((gx - box.xmin) / w.bin_width)));
     for (int db = -1; db <= 1; ++db) {
       if (nb < 3 && db != 0) continue;
       const int bb = (b + db + nb) % nb;
       for (int q = w.bin_first[bb]; q < w.bin_first[bb + 1]; ++q) {
         const int s = w.bin_site[q];
-        double ex = p_.x[g] - w.site_x[s], ey = p_.y[g] - w.site_y[s];
+        double ex = gx - w.site_x[s], ey = gy - w.site_y[s];
         box.min_image(ex, ey);
         const double d2 = ex * ex + ey * ey;
         if (d2 < r2) w.candidates.push_back({d2, g, s});
@@ -154,7 +200,7 @@ void DemSystem::update_window() {
     if (s < 0) continue;
     ++inside_matched;
     if (std::fabs(dx) < 0.25 * w.width) {
-      double ex = p_.x[g] - w.site_x[s], ey = p_.y[g] - w.site_y[s];
+      double ex = p_.x[g] - (w.site_x[s] + w.off_x), ey = p_.y[g] - (w.site_y[s] + w.off_y);
       box.min_image(ex, ey);
       core2 += ex * ex + ey * ey;
       ++core;

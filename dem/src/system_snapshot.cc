@@ -79,6 +79,13 @@ SystemSnapshot DemSystem::snapshot() const {
     s.window_site_x = window_.site_x;
     s.window_site_y = window_.site_y;
     s.window_target.assign(window_.target.begin(), window_.target.end());
+    s.window_image_x = window_.image_x;
+    s.window_image_y = window_.image_y;
+    s.window_off_x = window_.off_x;
+    s.window_off_y = window_.off_y;
+    s.window_vel_x = window_.vel_x;
+    s.window_vel_y = window_.vel_y;
+    s.window_match_step = window_.match_step;
     s.window_builds = window_.sums.builds;
     s.window_band_grains = window_.sums.band_grains;
     s.window_matched_fraction = window_.sums.matched_fraction;
@@ -105,6 +112,8 @@ void DemSystem::restore(const SystemSnapshot& s) {
     window_.site_x = s.window_site_x;
     window_.site_y = s.window_site_y;
     index_window_sites();
+    window_.image_x = s.window_image_x;
+    window_.image_y = s.window_image_y;
     // no matching at this build (the run being resumed did not match here): the checkpoint's
     // sites are put back below
     window_.next_match = INT64_MAX;
@@ -147,6 +156,11 @@ void DemSystem::restore(const SystemSnapshot& s) {
     // the sites of the checkpoint's last build (this build matched afresh at another step)
     std::copy(s.window_target.begin(), s.window_target.end(), window_.target.begin());
     window_.next_match = s.window_next_match;
+    window_.off_x = s.window_off_x;
+    window_.off_y = s.window_off_y;
+    window_.vel_x = s.window_vel_x;
+    window_.vel_y = s.window_vel_y;
+    window_.match_step = s.window_match_step;
     window_.sums.builds = s.window_builds;
     window_.sums.band_grains = s.window_band_grains;
     window_.sums.matched_fraction = s.window_matched_fraction;

@@ -82,6 +82,11 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared, std::i
     band.site_y = window_.site_y.data();
     band.target = window_.target.data();
     band.box = box;
+    const double t = dt * static_cast<double>(kick_step - window_.match_step);
+    band.shift_x = window_.off_x + window_.vel_x * t;
+    band.shift_y = window_.off_y + window_.vel_y * t;
+    band.vel_x = window_.vel_x;
+    band.vel_y = window_.vel_y;
   }
   for (int i = lo; i < hi;) {
     if (simd) {

@@ -48,7 +48,9 @@ struct SystemSnapshot {
   double window_x0 = 0;
   std::int64_t window_step0 = 0, window_next_match = 0;
   std::vector<double> window_site_x, window_site_y;
-  std::vector<std::int32_t> window_target;
+  std::vector<std::int32_t> window_target, window_image_x, window_image_y;
+  double window_off_x = 0, window_off_y = 0, window_vel_x = 0, window_vel_y = 0;
+  std::int64_t window_match_step = 0;
   std::int64_t window_builds = 0;
   double window_band_grains = 0, window_matched_fraction = 0, window_core_rms = 0;
 };

@@ -152,12 +152,14 @@ class DemSystem {
   long long woken() const { return woken_; }
   /// @brief The co-moving window (comoving_window.cc): a band @p width m wide across the box,
   /// centred half a box length (x) from the intruder and moving with it, pulls the grains in it
-  /// onto the sites of the bed as it is at this call (the prepared bed), so that the intruder
+  /// onto the sites of the bed as it is at this call (the prepared bed), carried along with the
+  /// band's grains when the bed slides as a whole (median displacement and velocity: the band
+  /// restores the bed's structure without holding it in place), so that the intruder
   /// meets that bed again instead of its own wake coming round the periodic box. No grain is
   /// added or removed. At every list build each grain in the band is given the nearest free
   /// site within @p match_radius m (greedy, closest pairs first; a grain without one, as in the
   /// prepared bed's hole where the intruder started, is left free); in the band a grain feels
-  /// a = -s rate^2 (x - site) - 2 sqrt(s) rate v (and alpha = -2 sqrt(s) rate omega) with
+  /// a = -s rate^2 (x - site) - 2 sqrt(s) rate (v - v_band) (alpha = -2 sqrt(s) rate omega) with
   /// s = sin^2(pi xi), xi in [0, 1] across the band: zero at its edges. Needs the intruder
   /// (set_intruder first), moving along x in a box periodic in x; @p width 0 turns it off (no
   /// grain is ever flagged: the same bits as without the call).
@@ -452,6 +454,16 @@ class DemSystem {
     /// (a resumed run, a woken sleeper) while the results must not.
     std::int64_t match_every = 1, next_match = 0;
     std::vector<double> site_x, site_y;  ///< the prepared bed's positions (one site per grain)
+    /// The bed may slide along the box as a whole (the intruder drags it, the walls hold it
+    /// back): the sites move with the band's grains. At each matching, off = the median
+    /// displacement since set_window of the grains in the band's middle half (each from its own
+    /// starting position, unwrapped by image counts) and vel = their median velocity; until the
+    /// next matching the sites are at site + off + vel (t - t_match) and the drag acts on v - vel.
+    std::vector<std::int32_t> image_x, image_y;  ///< per grain: box lengths crossed (+: forward)
+    std::vector<double> last_x, last_y;          ///< positions at the last build (wraps)
+    double off_x = 0, off_y = 0, vel_x = 0, vel_y = 0;
+    std::int64_t match_step = 0;
+    std::vector<double> scratch;
     std::vector<int> target;   ///< per grain: its site, or -1
     std::vector<int> flagged;  ///< grains flagged kWindow at the last build
     std::vector<int> bin_first, bin_site;  ///< sites by x bins of >= match_radius
