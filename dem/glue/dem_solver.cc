@@ -480,6 +480,7 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     r.diagnostics.values["window_band_grains"] = out.window_band_grains;
     r.diagnostics.values["window_matched_fraction"] = out.window_matched_fraction;
     r.diagnostics.values["window_core_rms"] = out.window_core_rms;
+    r.diagnostics.values["window_bed_slide"] = out.window_bed_slide;
   }
   if (cfg.sleep_speed >= 0) {
     r.diagnostics.values["sleeping_fraction"] = out.sleeping_fraction;

@@ -146,7 +146,10 @@ void put_system(Writer& w, const SystemSnapshot& s) {
   w.put_vector(s.window_target);
   w.put_vector(s.window_image_x);
   w.put_vector(s.window_image_y);
-  for (double v : {s.window_off_x, s.window_off_y, s.window_vel_x, s.window_vel_y}) w.put(v);
+  for (const auto* v : {&s.window_off_x, &s.window_off_y, &s.window_vel_x, &s.window_vel_y}) {
+    w.put_vector(*v);
+  }
+  w.put_vector(s.window_layer);
   w.put(s.window_match_step);
   w.put(s.window_builds);
   for (double v : {s.window_band_grains, s.window_matched_fraction, s.window_core_rms}) w.put(v);
@@ -197,9 +200,10 @@ SystemSnapshot get_system(Reader& r) {
   s.window_target = r.get_vector<std::int32_t>();
   s.window_image_x = r.get_vector<std::int32_t>();
   s.window_image_y = r.get_vector<std::int32_t>();
-  for (double* v : {&s.window_off_x, &s.window_off_y, &s.window_vel_x, &s.window_vel_y}) {
-    *v = r.get<double>();
+  for (auto* v : {&s.window_off_x, &s.window_off_y, &s.window_vel_x, &s.window_vel_y}) {
+    *v = r.get_vector<double>();
   }
+  s.window_layer = r.get_vector<std::int32_t>();
   s.window_match_step = r.get<std::int64_t>();
   s.window_builds = r.get<std::int64_t>();
   for (double* v : {&s.window_band_grains, &s.window_matched_fraction, &s.window_core_rms}) {
@@ -229,8 +233,16 @@ SystemSnapshot get_system(Reader& r) {
   }
   const std::size_t ns = s.window_site_x.size();
   if (ns != 0 && (ns != ng || s.window_site_y.size() != ng || s.window_target.size() != ng ||
-                  s.window_image_x.size() != ng || s.window_image_y.size() != ng)) {
+                  s.window_image_x.size() != ng || s.window_image_y.size() != ng ||
+                  s.window_layer.size() != ng)) {
     throw CheckpointError("corrupt checkpoint: the window's sites of another number of grains");
+  }
+  const std::size_t nl = s.window_off_x.size();
+  if (s.window_off_y.size() != nl || s.window_vel_x.size() != nl || s.window_vel_y.size() != nl) {
+    throw CheckpointError("corrupt checkpoint: the window's layers of unequal lengths");
+  }
+  for (std::int32_t l : s.window_layer) {
+    if (l < 0 || std::size_t(l) >= nl) throw CheckpointError("corrupt checkpoint: no such layer");
   }
   for (std::int32_t t : s.window_target) {
     if (t < -1 || std::size_t(t + 1) > ns) throw CheckpointError("corrupt checkpoint: no such site");

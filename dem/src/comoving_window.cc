@@ -1,8 +1,9 @@
 // The co-moving window (DemSystem::set_window): a band across the box, half a box length
 // from the intruder and moving with it, pulls the grains inside it back onto the sites of the
 // prepared bed, so that the intruder, coming round the periodic box, meets that bed again
-// instead of its own wake. The sites move with the band's grains when the bed slides along the
-// box as a whole: the band restores the bed's structure, it does not hold the bed in place. No grain is added or removed: the area fraction is that of the
+// instead of its own wake. The sites move with the bed (each layer's mean displacement and
+// velocity) when it slides along the box: the band restores the bed's structure, it does not
+// hold the bed in place. No grain is added or removed: the area fraction is that of the
 // prepared bed exactly.
 //
 // Sites, not each grain's own position: the prepared bed has a hole where the intruder
@@ -21,6 +22,7 @@
 
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/errors.h"
+#include "window_band.h"
 
 namespace grainlift::dem {
 
@@ -67,6 +69,13 @@ void DemSystem::index_window_sites() {
   w.image_y.assign(n, 0);
   w.last_x.assign(p_.x.begin(), p_.x.begin() + n_grains_);
   w.last_y.assign(p_.y.begin(), p_.y.begin() + n_grains_);
+  // layers two match radii (two grain diameters) high
+  const int nl = std::max(1, static_cast<int>(box.ly() / (2.0 * w.match_radius)));
+  w.bin_height = box.ly() / nl;
+  for (auto* v : {&w.off_x, &w.off_y, &w.vel_x, &w.vel_y}) v->assign(static_cast<std::size_t>(nl), 0.0);
+  w.layer.assign(n, 0);
+  for (auto* v : {&w.acc_x, &w.acc_y, &w.acc_w}) v->assign(n, 0.0);
+  w.weight.assign(n, 0.0);
   w.taken.assign(n, 0);
   // sites by bins along x, at least match_radius wide: a grain's candidates lie in its own
   // bin and the two beside it
@@ -82,6 +91,54 @@ void DemSystem::index_window_sites() {
   w.bin_site.assign(n, 0);
   std::vector<int> fill(w.bin_first.begin(), w.bin_first.end() - 1);
   for (int s = 0; s < n_grains_; ++s) w.bin_site[fill[bin_of(w.site_x[s])]++] = s;
+}
+
+void DemSystem::window_forces(std::int64_t kick_step) {
+  Window& w = window_;
+  detail::WindowBand band;
+  band.centre = window_centre(kick_step);
+  band.half = 0.5 * w.width;
+  band.phase = M_PI / w.width;
+  band.rate = w.rate;
+  band.site_x = w.site_x.data();
+  band.site_y = w.site_y.data();
+  band.target = w.target.data();
+  band.box = opt_.box;
+  band.since = opt_.dt * static_cast<double>(kick_step - w.match_step);
+  band.off_x = w.off_x.data();
+  band.off_y = w.off_y.data();
+  band.vel_x = w.vel_x.data();
+  band.vel_y = w.vel_y.data();
+  band.layer = w.layer.data();
+  // each grain's pull, and per layer the momentum it adds and the grains' weights (ramp x mass)
+  const std::size_t nl = w.off_x.size();
+  w.layer_sum.assign(3 * nl, 0.0);
+  for (int g : w.flagged) {
+    double ax = 0, ay = 0, al = 0, s = 0;
+    const bool inside = band.pull(g, p_.x[g], p_.y[g], p_.vx[g], p_.vy[g], p_.w[g], ax, ay, al, s);
+    w.weight[g] = inside ? s : 0.0;
+    if (inside) {
+      double* q = w.layer_sum.data() + 3 * w.layer[g];
+      const double m = p_.mass[g];
+      q[0] += m * s;
+      q[1] += m * ax;
+      q[2] += m * ay;
+    }
+    w.acc_x[g] = ax;
+    w.acc_y[g] = ay;
+    w.acc_w[g] = al;
+  }
+  // The recoil: the layer's momentum taken back from its band grains in proportion to their
+  // ramp, so that the band pushes no layer as a whole (a band that did either held the bed
+  // back or, following it, drove it: on the reduced Kumar bed three times the drag, or a bed
+  // overtaking the intruder). Not in equal shares: a grain at the band's edge, with no spring
+  // to hold it, would be driven by the others' recoil.
+  for (int g : w.flagged) {
+    if (!(w.weight[g] > 0)) continue;
+    const double* q = w.layer_sum.data() + 3 * w.layer[g];
+    w.acc_x[g] -= w.weight[g] * q[1] / q[0];
+    w.acc_y[g] -= w.weight[g] * q[2] / q[0];
+  }
 }
 
 double DemSystem::window_centre(std::int64_t step) const {
@@ -128,28 +185,43 @@ void DemSystem::update_window() {
   if (steps_ < w.next_match) return;  // the sites stay those of the last matching
   w.next_match = (steps_ / w.match_every + 1) * w.match_every;
   std::fill(w.target.begin(), w.target.end(), -1);
-  // Where the sites are now: the bed may slide along the box as a whole, and sites held in
-  // place would hold it back (on the reduced Kumar bed, three times the drag). The median
-  // displacement (from each grain's own starting position) and the median velocity of the
-  // grains in the band's middle half: medians, so that the grains the intruder stirred, or
-  // that wandered into its old hole, do not move the sites.
+  // Where the sites are now: the bed may slide along the box, and sites held in place would
+  // hold it back (on the reduced Kumar bed, three times the drag). Each layer's median
+  // displacement (from each grain's own starting position) and median velocity over its grains
+  // outside the band's reach: the band follows the bed. Not its own grains, which it moves: a
+  // band that followed them carried them along at whatever speed they had (on the reduced
+  // Kumar bed they ran away). Medians: the grains the intruder stirred, or that swapped places,
+  // have large displacements from their own starting positions that say nothing about where
+  // the bed has gone. A layer with no grain outside keeps its last values.
   {
-    auto median = [&](auto value) {
+    const int nl = static_cast<int>(w.off_x.size());
+    w.layer_first.assign(static_cast<std::size_t>(nl) + 1, 0);
+    for (int g = 0; g < n_grains_; ++g) {
+      const int l = std::min(nl - 1, std::max(0, static_cast<int>((p_.y[g] - box.ymin) / w.bin_height)));
+      w.layer[g] = l;
+      if (!(grain_flags_[g] & kWindow)) ++w.layer_first[static_cast<std::size_t>(l) + 1];
+    }
+    for (int l = 0; l < nl; ++l) w.layer_first[l + 1] += w.layer_first[l];
+    w.layer_grain.resize(static_cast<std::size_t>(w.layer_first[nl]));
+    std::vector<int>& fill = w.layer_fill;
+    fill.assign(w.layer_first.begin(), w.layer_first.end() - 1);
+    for (int g = 0; g < n_grains_; ++g) {
+      if (!(grain_flags_[g] & kWindow)) w.layer_grain[fill[w.layer[g]]++] = g;
+    }
+    auto median = [&](int l, auto value) {
       w.scratch.clear();
-      for (int g : w.flagged) {
-        double dx = p_.x[g] - centre, dy = 0;
-        box.min_image(dx, dy);
-        if (std::fabs(dx) < 0.25 * w.width) w.scratch.push_back(value(g));
-      }
-      if (w.scratch.empty()) return 0.0;
+      for (int q = w.layer_first[l]; q < w.layer_first[l + 1]; ++q) w.scratch.push_back(value(w.layer_grain[q]));
       const auto mid = w.scratch.begin() + static_cast<std::ptrdiff_t>(w.scratch.size() / 2);
       std::nth_element(w.scratch.begin(), mid, w.scratch.end());
       return *mid;
     };
-    w.off_x = median([&](int g) { return p_.x[g] + w.image_x[g] * lx - w.site_x[g]; });
-    w.off_y = median([&](int g) { return p_.y[g] + w.image_y[g] * ly - w.site_y[g]; });
-    w.vel_x = median([&](int g) { return p_.vx[g]; });
-    w.vel_y = median([&](int g) { return p_.vy[g]; });
+    for (int l = 0; l < nl; ++l) {
+      if (w.layer_first[l + 1] == w.layer_first[l]) continue;
+      w.off_x[l] = median(l, [&](int g) { return p_.x[g] + w.image_x[g] * lx - w.site_x[g]; });
+      w.off_y[l] = median(l, [&](int g) { return p_.y[g] + w.image_y[g] * ly - w.site_y[g]; });
+      w.vel_x[l] = median(l, [&](int g) { return p_.vx[g]; });
+      w.vel_y[l] = median(l, [&](int g) { return p_.vy[g]; });
+    }
     // inside advance() the positions have already drifted to the next step's (drifted_)
     w.match_step = drifted_ ? steps_ + 1 : steps_;
   }
@@ -159,7 +231,8 @@ void DemSystem::update_window() {
   w.candidates.clear();
   for (int g : w.flagged) {
     // the grain where it would be without the slide, among the sites where they were set
-    double gx = p_.x[g] - w.off_x, gy = p_.y[g] - w.off_y;
+    const int l = w.layer[g];
+    double gx = p_.x[g] - w.off_x[l], gy = p_.y[g] - w.off_y[l];
     gx = box.xmin + std::fmod(gx - box.xmin, lx);
     if (gx < box.xmin) gx += lx;
     const int b = std::min(nb - 1, std::max(0, static_cast<int>((gx - box.xmin) / w.bin_width)));
@@ -169,7 +242,7 @@ void DemSystem::update_window() {
       for (int q = w.bin_first[bb]; q < w.bin_first[bb + 1]; ++q) {
         const int s = w.bin_site[q];
         double ex = gx - w.site_x[s], ey = gy - w.site_y[s];
-        box.min_image(ex, ey);
+        box.min_image_any(ex, ey);
         const double d2 = ex * ex + ey * ey;
         if (d2 < r2) w.candidates.push_back({d2, g, s});
       }
@@ -200,8 +273,9 @@ void DemSystem::update_window() {
     if (s < 0) continue;
     ++inside_matched;
     if (std::fabs(dx) < 0.25 * w.width) {
-      double ex = p_.x[g] - (w.site_x[s] + w.off_x), ey = p_.y[g] - (w.site_y[s] + w.off_y);
-      box.min_image(ex, ey);
+      const int l = w.layer[g];
+      double ex = p_.x[g] - (w.site_x[s] + w.off_x[l]), ey = p_.y[g] - (w.site_y[s] + w.off_y[l]);
+      box.min_image_any(ex, ey);
       core2 += ex * ex + ey * ey;
       ++core;
     }
@@ -214,6 +288,7 @@ void DemSystem::update_window() {
 
 DemSystem::WindowStats DemSystem::window_stats() const {
   WindowStats s = window_.sums;
+  for (double o : window_.off_x) s.slide += o / static_cast<double>(window_.off_x.size());
   if (s.builds > 0) {
     s.band_grains /= double(s.builds);
     s.matched_fraction /= double(s.builds);

@@ -255,7 +255,8 @@ void DemSystem::prepare() {
   for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_);
   full_history_check_ = false;
   max_overlap_ = max_ov;
-  finish_rows(0, n_grains_, Kick::first, nullptr, steps_);
+  if (window_.width > 0) window_forces(steps_);
+  finish_rows(0, n_grains_, Kick::first, nullptr);
   drifted_ = false;
   primed_ = true;
 }

@@ -387,6 +387,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     out.window_band_grains = ws.band_grains;
     out.window_matched_fraction = ws.matched_fraction;
     out.window_core_rms = ws.core_rms / d;
+    out.window_bed_slide = ws.slide / d;
   }
   out.sleep_wakes = s.woken();
   out.sleep_wake_builds = s.wake_builds();

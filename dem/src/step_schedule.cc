@@ -60,12 +60,12 @@ long long DemSystem::run_segment(long long m) {
     step_boundaries();
     advance_clock(last, idisp);
     full_history_check_ = false;
+    if (window_.width > 0) window_forces(steps_);  // the band's pull, before the kicks
     d2 = 0;
     for (int c = 0; c < chunks(); ++c) {
       const int lo = c * kChunkRows;
-      // advance_clock has counted this step: the positions are those of steps_
       d2 = std::max(d2, finish_rows(lo, std::min(n_grains_, lo + kChunkRows),
-                                    last ? Kick::sync : Kick::drift, nullptr, steps_));
+                                    last ? Kick::sync : Kick::drift, nullptr));
     }
     if (last) break;
   }
@@ -237,6 +237,7 @@ long long DemSystem::run_segment_team(long long m) {
     barrier.wait([&] {
       rebuild = rebuild_due(was_drifted ? 0.0 : largest_d2(), idisp, was_drifted);
       done = rebuild;
+      if (!done && window_.width > 0) window_forces(steps_ + 1);  // the first kick's band pull
     });
     using Clock = std::chrono::steady_clock;
     Clock::duration busy{0};
@@ -253,20 +254,18 @@ long long DemSystem::run_segment_team(long long m) {
                    max_ov, full_check, shared);
       const bool last = s + 1 == m;
       const Kick mode = last ? Kick::sync : Kick::drift;
-      // the clock counts this step in the barrier below (read here after the last barrier)
-      const std::int64_t kick_step = steps_ + 1;
       double d2 = 0;
       if (t > 0) {
         // the rows no lower range reaches, once the intruder's contacts are known
         wait_until([&] { return slot[0].intruder_done.load(std::memory_order_acquire) > s; });
-        d2 = finish_rows(reach, hi, mode, shared, kick_step);
+        d2 = finish_rows(reach, hi, mode, shared);
       }
       const auto t1 = Clock::now();
       for (int u = 0; u < t; ++u) {
         wait_until([&] { return slot[u].band_done.load(std::memory_order_acquire) > s; });
       }
       const auto t2 = Clock::now();
-      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, shared, kick_step));
+      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, shared));
       busy += (t1 - t0) + (Clock::now() - t2);
       barrier.wait([&] {
         completed = s + 1;
@@ -278,6 +277,7 @@ long long DemSystem::run_segment_team(long long m) {
         } else if (rebuild_due(largest_d2(), idisp, false)) {
           done = rebuild = true;
         }
+        if (!done && window_.width > 0) window_forces(steps_ + 1);  // the next kick's
       });
     }
     slot[t].busy = std::chrono::duration<double>(busy).count();

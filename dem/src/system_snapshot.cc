@@ -85,6 +85,7 @@ SystemSnapshot DemSystem::snapshot() const {
     s.window_off_y = window_.off_y;
     s.window_vel_x = window_.vel_x;
     s.window_vel_y = window_.vel_y;
+    s.window_layer = window_.layer;
     s.window_match_step = window_.match_step;
     s.window_builds = window_.sums.builds;
     s.window_band_grains = window_.sums.band_grains;
@@ -153,13 +154,14 @@ void DemSystem::restore(const SystemSnapshot& s) {
     ic_.sy[slot] = s.ic_sy[b];
   }
   if (window) {
-    // the sites of the checkpoint's last build (this build matched afresh at another step)
+    // the sites and layers of the checkpoint's last matching (this build did not match)
     std::copy(s.window_target.begin(), s.window_target.end(), window_.target.begin());
     window_.next_match = s.window_next_match;
     window_.off_x = s.window_off_x;
     window_.off_y = s.window_off_y;
     window_.vel_x = s.window_vel_x;
     window_.vel_y = s.window_vel_y;
+    window_.layer = s.window_layer;
     window_.match_step = s.window_match_step;
     window_.sums.builds = s.window_builds;
     window_.sums.band_grains = s.window_band_grains;

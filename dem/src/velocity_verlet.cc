@@ -8,7 +8,6 @@
 
 #include "grainlift/dem/dem_system.h"
 #include "step_kernels.h"
-#include "window_band.h"
 
 namespace grainlift::dem {
 
@@ -22,7 +21,7 @@ inline std::uint64_t bits(double v) {
 }  // namespace
 
 template <DemSystem::Kick kMode>
-double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared, std::int64_t kick_step) {
+double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
   const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
@@ -72,22 +71,10 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared, std::i
                           dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
                           sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
                           kGeneral, kAccelSet, box};
-  detail::WindowBand band;
-  if (window_.width > 0) {
-    band.centre = window_centre(kick_step);
-    band.half = 0.5 * window_.width;
-    band.phase = M_PI / window_.width;
-    band.rate = window_.rate;
-    band.site_x = window_.site_x.data();
-    band.site_y = window_.site_y.data();
-    band.target = window_.target.data();
-    band.box = box;
-    const double t = dt * static_cast<double>(kick_step - window_.match_step);
-    band.shift_x = window_.off_x + window_.vel_x * t;
-    band.shift_y = window_.off_y + window_.vel_y * t;
-    band.vel_x = window_.vel_x;
-    band.vel_y = window_.vel_y;
-  }
+  // the co-moving window's pull (window_forces, before the kicks)
+  const double* wax = window_.acc_x.data();
+  const double* way = window_.acc_y.data();
+  const double* wal = window_.acc_w.data();
   for (int i = lo; i < hi;) {
     if (simd) {
       const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);
@@ -148,7 +135,11 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared, std::i
     axn = fx * inv_m[i] + gx;
     ayn = fy * inv_m[i] + gy;
     aln = tq * inv_i[i];
-    if (fl & kWindow) band.add(i, px[i], py[i], vx[i], vy[i], w[i], axn, ayn, aln);
+    if (fl & kWindow) {
+      axn += wax[i];
+      ayn += way[i];
+      aln += wal[i];
+    }
     ax[i] = axn;
     ay[i] = ayn;
     al[i] = aln;
@@ -182,11 +173,10 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared, std::i
   return maxd2;
 }
 
-double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared,
-                              std::int64_t kick_step) {
-  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi, shared, kick_step);
-  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi, shared, kick_step);
-  return finish_impl<Kick::first>(lo, hi, shared, kick_step);
+double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared) {
+  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi, shared);
+  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi, shared);
+  return finish_impl<Kick::first>(lo, hi, shared);
 }
 
 double DemSystem::drift_rows(int lo, int hi) {

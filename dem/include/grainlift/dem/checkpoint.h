@@ -49,7 +49,8 @@ struct SystemSnapshot {
   std::int64_t window_step0 = 0, window_next_match = 0;
   std::vector<double> window_site_x, window_site_y;
   std::vector<std::int32_t> window_target, window_image_x, window_image_y;
-  double window_off_x = 0, window_off_y = 0, window_vel_x = 0, window_vel_y = 0;
+  std::vector<double> window_off_x, window_off_y, window_vel_x, window_vel_y;  ///< per layer
+  std::vector<std::int32_t> window_layer;                                      ///< per grain
   std::int64_t window_match_step = 0;
   std::int64_t window_builds = 0;
   double window_band_grains = 0, window_matched_fraction = 0, window_core_rms = 0;

@@ -73,6 +73,7 @@ struct DemOutput {
   /// the band's middle half to their sites (mean grain diameters)
   bool window = false;
   double window_band_grains = 0, window_matched_fraction = 0, window_core_rms = 0;
+  double window_bed_slide = 0;  ///< mean grain diameters the bed slid along x (window on)
   bool stopped_early = false;
   /// the prepared bed's structure at rest (bed_fingerprint.h); gap_fraction empty when not
   /// measured (a run resumed from a checkpoint)

@@ -152,24 +152,28 @@ class DemSystem {
   long long woken() const { return woken_; }
   /// @brief The co-moving window (comoving_window.cc): a band @p width m wide across the box,
   /// centred half a box length (x) from the intruder and moving with it, pulls the grains in it
-  /// onto the sites of the bed as it is at this call (the prepared bed), carried along with the
-  /// band's grains when the bed slides as a whole (median displacement and velocity: the band
-  /// restores the bed's structure without holding it in place), so that the intruder
+  /// onto the sites of the bed as it is at this call (the prepared bed), so that the intruder
   /// meets that bed again instead of its own wake coming round the periodic box. No grain is
-  /// added or removed. At every list build each grain in the band is given the nearest free
-  /// site within @p match_radius m (greedy, closest pairs first; a grain without one, as in the
-  /// prepared bed's hole where the intruder started, is left free); in the band a grain feels
-  /// a = -s rate^2 (x - site) - 2 sqrt(s) rate (v - v_band) (alpha = -2 sqrt(s) rate omega) with
-  /// s = sin^2(pi xi), xi in [0, 1] across the band: zero at its edges. Needs the intruder
-  /// (set_intruder first), moving along x in a box periodic in x; @p width 0 turns it off (no
-  /// grain is ever flagged: the same bits as without the call).
+  /// added or removed. Every ~0.1 match radius of the band's travel each grain in its reach is
+  /// given the nearest free site within @p match_radius m (greedy, closest pairs first; a grain
+  /// without one, as in the prepared bed's hole where the intruder started, is left free), the
+  /// sites carried with the bed where it has slid (each 2 match radii high layer's median
+  /// displacement and velocity over its grains outside the band). Inside the band a grain
+  /// feels a = -s rate^2 (x - site) - 2 sqrt(s) rate (v - v_layer) (alpha = -2 sqrt(s) rate
+  /// omega), s = sin^2(pi xi), xi in [0, 1] across the band (zero at its edges), less its share
+  /// (by s) of its layer's total: the band restores the arrangement of the grains and pushes no
+  /// layer as a whole. Needs the intruder (set_intruder first), moving along x in a box
+  /// periodic in x; @p width 0 turns it off (no grain is ever flagged: the same bits as
+  /// without the call).
   void set_window(double width, double rate, double match_radius);
   /// Averages over the list builds with the window on: grains in the band, the fraction of
   /// them given a site, and the rms distance (m) to their sites of those in the band's middle
-  /// half (how well the band restores the bed).
+  /// half (how well the band restores the bed); and how far the bed has slid along x since
+  /// set_window (m, the layers' median displacements at the last matching, averaged).
   struct WindowStats {
     long long builds = 0;
     double band_grains = 0, matched_fraction = 0, core_rms = 0;
+    double slide = 0;
   };
   WindowStats window_stats() const;
   /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
@@ -290,11 +294,9 @@ class DemSystem {
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
   /// Grains with @p shared set (nullptr: none) sum their stored pair forces (range_forces).
-  /// @p kick_step: the step count whose positions the accelerations are of (the window's band
-  /// moves with it).
-  double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared, std::int64_t kick_step);
+  double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared);
   template <Kick kMode>
-  double finish_impl(int lo, int hi, const std::uint8_t* shared, std::int64_t kick_step);
+  double finish_impl(int lo, int hi, const std::uint8_t* shared);
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
@@ -315,6 +317,11 @@ class DemSystem {
   void update_window();
   /// The co-moving window's per-grain arrays sized and its sites sorted into bins.
   void index_window_sites();
+  /// The co-moving window's pull on the grains in its band for the kick of step @p kick_step
+  /// (positions and velocities as the kick finds them), into acc_x, acc_y, acc_w: each
+  /// grain's pull (window_band.h) less its share, by its ramp, of its layer's total, so that
+  /// the band pushes no layer as a whole (serial, in grain order: the same bits on any team).
+  void window_forces(std::int64_t kick_step);
   /// The band's centre (m, x) at step @p step.
   double window_centre(std::int64_t step) const;
   /// Wake the sleepers among the grains of touching pair (i, j) (pair loop; any thread).
@@ -454,16 +461,26 @@ class DemSystem {
     /// (a resumed run, a woken sleeper) while the results must not.
     std::int64_t match_every = 1, next_match = 0;
     std::vector<double> site_x, site_y;  ///< the prepared bed's positions (one site per grain)
-    /// The bed may slide along the box as a whole (the intruder drags it, the walls hold it
-    /// back): the sites move with the band's grains. At each matching, off = the median
-    /// displacement since set_window of the grains in the band's middle half (each from its own
-    /// starting position, unwrapped by image counts) and vel = their median velocity; until the
-    /// next matching the sites are at site + off + vel (t - t_match) and the drag acts on v - vel.
+    /// The bed may slide along the box (the intruder drags it, the walls hold it back, the
+    /// layers near the walls less than the middle): the sites move with it. At each matching
+    /// the box is cut into layers along y (bin_height) and each layer's mean displacement since
+    /// set_window (each grain from its own starting position, unwrapped by image counts) and
+    /// velocity are taken as medians over its grains outside the band's reach; until
+    /// the next matching a grain's site is at site + off + vel (t - t_match) of its layer, and
+    /// the drag acts on v - vel. Not the band's own grains: a band that follows the grains it
+    /// moves carries them along at whatever speed they have, and runs away.
     std::vector<std::int32_t> image_x, image_y;  ///< per grain: box lengths crossed (+: forward)
     std::vector<double> last_x, last_y;          ///< positions at the last build (wraps)
-    double off_x = 0, off_y = 0, vel_x = 0, vel_y = 0;
+    double bin_height = 0;
+    std::vector<double> off_x, off_y, vel_x, vel_y;  ///< per layer
+    std::vector<std::int32_t> layer;                 ///< per grain: its layer at the matching
     std::int64_t match_step = 0;
-    std::vector<double> scratch;
+    std::vector<double> scratch;  ///< one layer's values (medians)
+    /// per grain: the pull of the kick to come (window_forces; 0 outside the band)
+    std::vector<double> acc_x, acc_y, acc_w;
+    std::vector<double> layer_sum;  ///< scratch of window_forces: per layer m s, m ax, m ay
+    std::vector<double> weight;     ///< scratch of window_forces: per grain, its ramp s (0 outside)
+    std::vector<int> layer_first, layer_grain, layer_fill;  ///< grains outside the band by layer
     std::vector<int> target;   ///< per grain: its site, or -1
     std::vector<int> flagged;  ///< grains flagged kWindow at the last build
     std::vector<int> bin_first, bin_site;  ///< sites by x bins of >= match_radius

@@ -1,6 +1,8 @@
 // The simulation box: bounds, periodicity, minimum image and wrapping (lab frame, m).
 #pragma once
 
+#include <cmath>
+
 namespace grainlift::dem {
 
 struct PeriodicBox {
@@ -23,6 +25,12 @@ struct PeriodicBox {
       if (dy > 0.5 * l) dy -= l;
       else if (dy < -0.5 * l) dy += l;
     }
+  }
+
+  /// @brief The minimum image of a separation of any size (min_image: under 1.5 box lengths).
+  inline void min_image_any(double& dx, double& dy) const {
+    if (periodic_x) dx -= lx() * std::nearbyint(dx / lx());
+    if (periodic_y) dy -= ly() * std::nearbyint(dy / ly());
   }
 
   /// @brief Wrap a position back into the box in the periodic directions.

@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""The co-moving window against a long box (issue 14, docs/performance.md, Skips).
+
+Runs the reduced dense Kumar case (Phi 0.8, V0 0.25 m/s, Omega 5, one thread each) three ways
+per seed: the 60 d box (the intruder meets its own wake after 60 d of travel), the same box
+with dem.window_width, and a box LONG times as long (no wake comes round in the travel) as
+the reference. Prints a Markdown table: drag and lift over the laps of travel (block means,
+10 blocks each, block errors), the wall time, and the window's diagnostics; then the pooled
+means over the seeds (error: the block errors combined).
+
+    scripts/window_study.py build/bin/grainlift WORK [--seeds 1 2] [--travel 150]
+        [--width 10] [--long 3] [--runs short window long] [--set KEY=VALUE ...]
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+
+import h5py  # python3-h5py (scripts/install-deps)
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CASE = "cases/kumar2019/reduced_phi080.toml"
+V, D_GRAIN, HALF_BOX = 0.25, 0.02, 0.6
+
+
+def block_mean(x, blocks=10):
+    n = len(x) // blocks * blocks
+    b = x[:n].reshape(blocks, -1).mean(axis=1)
+    return float(x.mean()), float(b.std(ddof=1) / math.sqrt(blocks))
+
+
+def run(gl, work, name, seed, travel, extra, sets):
+    out = os.path.join(work, name)
+    if not os.path.exists(os.path.join(out, "summary.json")):
+        cmd = [gl, "run", os.path.join(ROOT, CASE), "--solver", "dem", "--threads", "1",
+               "--quiet", "--out", out, "--set", "intruder.velocity=[0.25,0.0]",
+               "--set", "intruder.omega=5.0", "--set", f"dem.travel={travel}",
+               "--set", "dem.steady_travel=30", "--set", "output.fields=false",
+               "--set", f"dem.seed={seed}"]
+        for s in extra + sets:
+            cmd += ["--set", s]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    with h5py.File(os.path.join(out, "dem.h5"), "r") as f:
+        t = f["forces/time"][:] * V / D_GRAIN
+        drag, lift = -f["forces/fx"][:], f["forces/fy"][:]
+        diag = {k: float(v) for k, v in f["diagnostics"].attrs.items() if k.startswith("window")}
+    wall = json.load(open(os.path.join(out, "summary.json")))["dem"]["wall_seconds"]
+    return t, drag, lift, diag, wall
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("grainlift")
+    ap.add_argument("work")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--travel", type=float, default=150)
+    ap.add_argument("--width", type=float, default=10)
+    ap.add_argument("--long", type=float, default=3)
+    ap.add_argument("--runs", nargs="+", default=["short", "window", "long"])
+    ap.add_argument("--set", action="append", default=[], dest="sets")
+    a = ap.parse_args()
+    os.makedirs(a.work, exist_ok=True)
+    kinds = {"short": [], "window": [f"dem.window_width={a.width}"],
+             "long": [f"domain.x_range=[{-HALF_BOX * a.long},{HALF_BOX * a.long}]"]}
+    laps = [(30, 60)] + [(lo, lo + 30) for lo in range(60, int(a.travel), 30)]
+    laps = [(lo, min(hi, a.travel)) for lo, hi in laps] + [(60, a.travel), (30, a.travel)]
+    head = " | ".join(f"{lo:g}-{hi:g} d drag / lift" for lo, hi in laps)
+    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d) |")
+    print("| --- | --- | " + " | ".join("---" for _ in laps) + " | --- | --- |")
+    pooled = {}
+    for kind in a.runs:
+        for seed in a.seeds:
+            t, drag, lift, diag, wall = run(a.grainlift, a.work, f"{kind}{seed}", seed, a.travel,
+                                            kinds[kind], a.sets)
+            cells = []
+            for lo, hi in laps:
+                m = (t >= lo) & (t < hi)
+                (dm, de), (lm, le) = block_mean(drag[m]), block_mean(lift[m])
+                cells.append(f"{dm:.3f} +- {de:.3f} / {lm:.3f} +- {le:.3f}")
+                pooled.setdefault((kind, lo, hi), []).append((dm, de, lm, le))
+            w = (f"{diag['window_band_grains']:.0f}, {diag['window_matched_fraction']:.3f}, "
+                 f"{diag['window_core_rms']:.3f}" if diag else "-")
+            print(f"| {kind} | {seed} | " + " | ".join(cells) + f" | {wall:.0f} | {w} |")
+    print()
+    print("Pooled over the seeds (mean of the beds; error: block errors combined):")
+    print()
+    print("| run | " + " | ".join(f"{lo:g}-{hi:g} d drag / lift" for lo, hi in laps) + " |")
+    print("| --- | " + " | ".join("---" for _ in laps) + " |")
+    for kind in a.runs:
+        cells = []
+        for lo, hi in laps:
+            v = pooled[(kind, lo, hi)]
+            n = len(v)
+            dm = sum(x[0] for x in v) / n
+            de = math.sqrt(sum(x[1] ** 2 for x in v)) / n
+            lm = sum(x[2] for x in v) / n
+            le = math.sqrt(sum(x[3] ** 2 for x in v)) / n
+            cells.append(f"{dm:.3f} +- {de:.3f} / {lm:.3f} +- {le:.3f}")
+        print(f"| {kind} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
