@@ -18,6 +18,9 @@
 #   frictionless  the saving of dem.frictionless_path on the reduced run with grains.friction = 0
 #   sleep     the saving of sleeping grains (dem.sleep, speed 0: the same bits) on the reduced
 #             dense and dilute runs and on the first 6 d of the full-size Kumar box
+#   window    the co-moving window (dem.window_width) on the reduced dilute bed against the
+#             60 d box alone and a 180 d box, 150 d of travel, three beds
+#             (scripts/window_study.py; the dense bed's study takes ~40 min: docs/performance.md)
 #   fem       the FEM's error against time on the demo geometry, refinement 0-4 with nested
 #             iteration, 0-3 without (scripts/fem_pareto.py)
 #   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
@@ -30,7 +33,7 @@
 # (default true / cores). About 25 minutes on 2 cores with REPS=3.
 set -euo pipefail
 BUILD=${1:-build}
-SECTIONS=${2:-"cores lammps threads replicas fields frictionless sleep fem error"}
+SECTIONS=${2:-"cores lammps threads replicas fields frictionless sleep window fem error"}
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 WORK=${WORK:-/tmp/grainlift_speed}
@@ -224,6 +227,13 @@ for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.
     print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - 1 / r):.0f}% | "
           f"{100 * float(diag['sleeping_fraction']):.0f}% | {int(diag['sleep_wakes'])} | {same} |")
 PYEOF
+fi
+
+if has window; then
+  echo; echo "## Co-moving window against the 60 d box alone and a 180 d box (reduced dilute, one thread)"
+  rm -rf "$WORK/window"
+  "$PY" "$ROOT/scripts/window_study.py" "$GL" "$WORK/window" --case "$ROOT/cases/kumar2019/reduced_phi035.toml" \
+    --v0 1.0 --omega 40 --seeds 1 2 3
 fi
 
 if has fem; then

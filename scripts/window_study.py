@@ -1,15 +1,16 @@
 #!/usr/bin/python3
 """The co-moving window against a long box (issue 14, docs/performance.md, Skips).
 
-Runs the reduced dense Kumar case (Phi 0.8, V0 0.25 m/s, Omega 5, one thread each) three ways
-per seed: the 60 d box (the intruder meets its own wake after 60 d of travel), the same box
+Runs a reduced Kumar case (default: the dense one, Phi 0.8, at V0 0.25 m/s and omega 5 rad/s;
+one thread each) three ways per seed: the 60 d box (the intruder meets its own wake after 60 d of travel), the same box
 with dem.window_width, and a box LONG times as long (no wake comes round in the travel) as
 the reference. Prints a Markdown table: drag and lift over the laps of travel (block means,
 10 blocks each, block errors), the wall time, and the window's diagnostics; then the pooled
 means over the seeds (error: the block errors combined).
 
-    scripts/window_study.py build/bin/grainlift WORK [--seeds 1 2] [--travel 150]
-        [--width 10] [--long 3] [--runs short window long] [--set KEY=VALUE ...]
+    scripts/window_study.py build/bin/grainlift WORK [--case FILE] [--v0 0.25] [--omega 5]
+        [--seeds 1 2] [--travel 150] [--width 10] [--long 3] [--runs short window long]
+        [--set KEY=VALUE ...]
 """
 import argparse
 import json
@@ -21,8 +22,7 @@ import h5py  # python3-h5py (scripts/install-deps)
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CASE = "cases/kumar2019/reduced_phi080.toml"
-V, D_GRAIN, HALF_BOX = 0.25, 0.02, 0.6
+D_GRAIN, HALF_BOX = 0.02, 0.6  # the reduced Kumar cases' grain diameter and half box length
 
 
 def block_mean(x, blocks=10):
@@ -31,19 +31,20 @@ def block_mean(x, blocks=10):
     return float(x.mean()), float(b.std(ddof=1) / math.sqrt(blocks))
 
 
-def run(gl, work, name, seed, travel, extra, sets):
-    out = os.path.join(work, name)
+def run(a, name, seed, extra):
+    gl, travel = a.grainlift, a.travel
+    out = os.path.join(a.work, name)
     if not os.path.exists(os.path.join(out, "summary.json")):
-        cmd = [gl, "run", os.path.join(ROOT, CASE), "--solver", "dem", "--threads", "1",
-               "--quiet", "--out", out, "--set", "intruder.velocity=[0.25,0.0]",
-               "--set", "intruder.omega=5.0", "--set", f"dem.travel={travel}",
+        cmd = [gl, "run", os.path.join(ROOT, a.case), "--solver", "dem", "--threads", "1",
+               "--quiet", "--out", out, "--set", f"intruder.velocity=[{a.v0},0.0]",
+               "--set", f"intruder.omega={a.omega}", "--set", f"dem.travel={travel}",
                "--set", "dem.steady_travel=30", "--set", "output.fields=false",
                "--set", f"dem.seed={seed}"]
-        for s in extra + sets:
+        for s in extra + a.sets:
             cmd += ["--set", s]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
     with h5py.File(os.path.join(out, "dem.h5"), "r") as f:
-        t = f["forces/time"][:] * V / D_GRAIN
+        t = f["forces/time"][:] * a.v0 / D_GRAIN
         drag, lift = -f["forces/fx"][:], f["forces/fy"][:]
         diag = {k: float(v) for k, v in f["diagnostics"].attrs.items() if k.startswith("window")}
     wall = json.load(open(os.path.join(out, "summary.json")))["dem"]["wall_seconds"]
@@ -54,6 +55,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("grainlift")
     ap.add_argument("work")
+    ap.add_argument("--case", default="cases/kumar2019/reduced_phi080.toml")
+    ap.add_argument("--v0", type=float, default=0.25)
+    ap.add_argument("--omega", type=float, default=5.0)
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
     ap.add_argument("--travel", type=float, default=150)
     ap.add_argument("--width", type=float, default=10)
@@ -67,13 +71,12 @@ def main():
     laps = [(30, 60)] + [(lo, lo + 30) for lo in range(60, int(a.travel), 30)]
     laps = [(lo, min(hi, a.travel)) for lo, hi in laps] + [(60, a.travel), (30, a.travel)]
     head = " | ".join(f"{lo:g}-{hi:g} d drag / lift" for lo, hi in laps)
-    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d) |")
+    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d), bed slide (d) |")
     print("| --- | --- | " + " | ".join("---" for _ in laps) + " | --- | --- |")
     pooled = {}
     for kind in a.runs:
         for seed in a.seeds:
-            t, drag, lift, diag, wall = run(a.grainlift, a.work, f"{kind}{seed}", seed, a.travel,
-                                            kinds[kind], a.sets)
+            t, drag, lift, diag, wall = run(a, f"{kind}{seed}", seed, kinds[kind])
             cells = []
             for lo, hi in laps:
                 m = (t >= lo) & (t < hi)
@@ -81,7 +84,7 @@ def main():
                 cells.append(f"{dm:.3f} +- {de:.3f} / {lm:.3f} +- {le:.3f}")
                 pooled.setdefault((kind, lo, hi), []).append((dm, de, lm, le))
             w = (f"{diag['window_band_grains']:.0f}, {diag['window_matched_fraction']:.3f}, "
-                 f"{diag['window_core_rms']:.3f}" if diag else "-")
+                 f"{diag['window_core_rms']:.3f}, {diag['window_bed_slide']:.1f}" if diag else "-")
             print(f"| {kind} | {seed} | " + " | ".join(cells) + f" | {wall:.0f} | {w} |")
     print()
     print("Pooled over the seeds (mean of the beds; error: block errors combined):")
