@@ -354,7 +354,7 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
       diag.error(where("dem.window_width"),
                  "dem.window_width needs domain.periodic[0] = true and an intruder moving along "
                  "x (intruder.velocity = [V, 0]): the band lies half a box from it along x");
-    else if (c.dem.window_width > widest)
+    else if (c.dem.window_width * c.grains.diameter > Lx_of(d) - 3.0 * in.diameter + 1e-9 * Lx_of(d))
       diag.error(where("dem.window_width"),
                  fmt::format("dem.window_width = {} d must lie in (0, {:.4g}] d: the band, half a "
                              "box length from the intruder, must stay one intruder diameter from "
