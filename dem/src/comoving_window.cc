@@ -1,20 +1,24 @@
 // The co-moving window (DemSystem::set_window): a band across the box, half a box length
 // from the intruder and moving with it, pulls the grains inside it back onto the sites of the
 // prepared bed, so that the intruder, coming round the periodic box, meets that bed again
-// instead of its own wake. The sites move with the bed (each layer's mean displacement and
-// velocity) when it slides along the box: the band restores the bed's structure, it does not
-// hold the bed in place. No grain is added or removed: the area fraction is that of the
+// instead of its own wake. No grain is added or removed: the area fraction is that of the
 // prepared bed exactly.
 //
 // Sites, not each grain's own position: the prepared bed has a hole where the intruder
 // started, and the grains that flowed into it after the intruder left would be pulled out of
-// it again, opening a cavity the intruder meets one box length later. So at every list build
-// the grains in reach of the band are matched afresh to the sites near them (closest pairs
-// first, each site and grain used once, within match_radius): a grain in the old hole has no
-// site near it and stays free, and the grains around it settle on the sites around the hole.
-// The matching happens at fixed steps (a list build is forced there), not at every build: when
-// the lists are built depends on history (a run resumed from a checkpoint, a woken sleeper),
-// and the results must not. The pull itself (window_band.h) is evaluated by the kick.
+// it again, opening a cavity the intruder meets one box length later. So the grains in reach
+// of the band are matched afresh to the sites near them (closest pairs first, each site and
+// grain used once, within match_radius): a grain in the old hole has no site near it and stays
+// free, and the grains around it settle on the sites around the hole. The matching happens at
+// fixed steps (a list build is forced there), not at every build: when the lists are built
+// depends on history (a run resumed from a checkpoint, a woken sleeper), and the results must
+// not.
+//
+// The bed may slide along the box: the sites move with each layer's median displacement and
+// velocity outside the band, and each grain's pull is less its share of its layer's total, so
+// that the band restores the arrangement of the grains without holding the bed back or driving
+// it (docs/performance.md, Skips, measures what each of those did). The pull itself is in
+// window_band.h, evaluated by window_forces() before each kick.
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
