@@ -21,7 +21,6 @@
 // window_band.h, evaluated by window_forces() before each kick.
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <string>
 
 #include "grainlift/dem/dem_system.h"
@@ -147,11 +146,7 @@ void DemSystem::window_forces(std::int64_t kick_step) {
 
 double DemSystem::window_centre(std::int64_t step) const {
   double x = window_.x0 + window_.vx * opt_.dt * static_cast<double>(step - window_.step0), y = 0;
-  // positions stay within a box length or two of it between wraps; several laps: modulo
-  const PeriodicBox& box = opt_.box;
-  x = box.xmin + std::fmod(x - box.xmin, box.lx());
-  if (x < box.xmin) x += box.lx();
-  box.wrap(x, y);
+  opt_.box.wrap_any(x, y);  // many laps
   return x;
 }
 
@@ -159,9 +154,16 @@ void DemSystem::update_window() {
   Window& w = window_;
   if (!(w.width > 0)) return;
   const PeriodicBox& box = opt_.box;
-  // box lengths crossed since the last build (a grain moves far less than half a box between
-  // builds): the counts, unlike sums of displacements, do not depend on when builds happen
+  for (int g : w.flagged) grain_flags_[g] &= static_cast<std::uint8_t>(~kWindow);
+  w.flagged.clear();
+  // Until the next build the band moves by less than the skin (the intruder's displacement
+  // triggers a build) and a grain by less than half of it: every grain that can be inside the
+  // band before then is flagged. And each grain's box lengths crossed since the last build (it
+  // moves far less than half a box between builds): the counts, unlike sums of displacements,
+  // do not depend on when builds happen.
   const double lx = box.lx(), ly = box.ly();
+  const double centre = window_centre(steps_);
+  const double reach = 0.5 * w.width + 2.0 * skin_;
   for (int g = 0; g < n_grains_; ++g) {
     const double jx = p_.x[g] - w.last_x[g], jy = p_.y[g] - w.last_y[g];
     if (box.periodic_x && jx < -0.5 * lx) ++w.image_x[g];
@@ -170,15 +172,6 @@ void DemSystem::update_window() {
     if (box.periodic_y && jy > 0.5 * ly) --w.image_y[g];
     w.last_x[g] = p_.x[g];
     w.last_y[g] = p_.y[g];
-  }
-  for (int g : w.flagged) grain_flags_[g] &= static_cast<std::uint8_t>(~kWindow);
-  w.flagged.clear();
-  // Until the next build the band moves by less than the skin (the intruder's displacement
-  // triggers a build) and a grain by less than half of it: every grain that can be inside the
-  // band before then is flagged.
-  const double centre = window_centre(steps_);
-  const double reach = 0.5 * w.width + 2.0 * skin_;
-  for (int g = 0; g < n_grains_; ++g) {
     double dx = p_.x[g] - centre, dy = 0;
     box.min_image(dx, dy);
     if (std::fabs(dx) < reach) {
@@ -237,8 +230,7 @@ void DemSystem::update_window() {
     // the grain where it would be without the slide, among the sites where they were set
     const int l = w.layer[g];
     double gx = p_.x[g] - w.off_x[l], gy = p_.y[g] - w.off_y[l];
-    gx = box.xmin + std::fmod(gx - box.xmin, lx);
-    if (gx < box.xmin) gx += lx;
+    box.wrap_any(gx, gy);
     const int b = std::min(nb - 1, std::max(0, static_cast<int>((gx - box.xmin) / w.bin_width)));
     for (int db = -1; db <= 1; ++db) {
       if (nb < 3 && db != 0) continue;

@@ -167,11 +167,11 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   s.set_frictionless_path(c.frictionless_path);  // the run keeps its mu: no spring is ever read
   out.frictionless_path = s.frictionless_path_active();
   s.set_sleep(c.sleep_speed);
+  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
   if (c.window_width > 0) {
     // the sites are the prepared bed's positions (a resumed run takes them from its checkpoint)
     const double width = c.window_width * d;
-    const double v = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-    s.set_window(width, c.window_rate * v / width, c.window_match_radius * d);
+    s.set_window(width, c.window_rate * speed / width, c.window_match_radius * d);
     out.window = true;
   }
   if (c.lid_pressure > 0) {
@@ -217,7 +217,6 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   out.grains = s.grains();
   out.wall_grains = s.frozen();
 
-  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
   const long long n_steps = travel_steps(c);
   const double steady_time = c.steady_travel * d / speed;
   const long long progress_every = std::max(1LL, n_steps / 100);

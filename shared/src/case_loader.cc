@@ -309,8 +309,6 @@ Vec2 get_vec2(const toml::table& r, const std::string& path) {
   return {0, 0};
 }
 
-double Lx_of(const DomainSection& d) { return d.x_range[1] - d.x_range[0]; }
-
 void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   auto where = [&](const std::string& path) { return diag.where(path, r.at_path(path).node()); };
   const auto& d = c.domain;
@@ -347,20 +345,6 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
     diag.error(where("dem.steady_travel"),
                fmt::format("dem.steady_travel = {} must be less than dem.travel = {}",
                            c.dem.steady_travel, c.dem.travel));
-  if (c.dem.window_width > 0) {
-    // the band stays at least one intruder diameter from the intruder's surface
-    const double widest = (Lx_of(d) - 3.0 * in.diameter) / c.grains.diameter;
-    if (!d.periodic[0] || in.velocity[1] != 0.0)
-      diag.error(where("dem.window_width"),
-                 "dem.window_width needs domain.periodic[0] = true and an intruder moving along "
-                 "x (intruder.velocity = [V, 0]): the band lies half a box from it along x");
-    else if (c.dem.window_width * c.grains.diameter > Lx_of(d) - 3.0 * in.diameter + 1e-9 * Lx_of(d))
-      diag.error(where("dem.window_width"),
-                 fmt::format("dem.window_width = {} d must lie in (0, {:.4g}] d: the band, half a "
-                             "box length from the intruder, must stay one intruder diameter from "
-                             "its surface (box length - 3 intruder diameters, in grain diameters)",
-                             c.dem.window_width, std::max(0.0, widest)));
-  }
   if (c.continuum.mu_2 < c.continuum.mu_s)
     diag.error(where("continuum.mu_2"),
                fmt::format("continuum.mu_2 = {} must be >= continuum.mu_s = {}", c.continuum.mu_2,
@@ -369,6 +353,21 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   if (c.grains.diameter * 4 > std::min(Lx, Ly))
     diag.error(where("grains.diameter"),
                "the box must be at least 4 grain diameters wide in each direction");
+  if (c.dem.window_width > 0) {
+    // the band stays at least one intruder diameter from the intruder's surface (a relative
+    // 1e-9 of slack: (Lx - 3 D) / d is rounded)
+    const double widest = Lx - 3.0 * in.diameter;
+    if (!d.periodic[0] || in.velocity[1] != 0.0)
+      diag.error(where("dem.window_width"),
+                 "dem.window_width needs domain.periodic[0] = true and an intruder moving along "
+                 "x (intruder.velocity = [V, 0]): the band lies half a box from it along x");
+    else if (c.dem.window_width * c.grains.diameter > widest + 1e-9 * Lx)
+      diag.error(where("dem.window_width"),
+                 fmt::format("dem.window_width = {} d must lie in (0, {:.4g}] d: the band, half a "
+                             "box length from the intruder, must stay one intruder diameter from "
+                             "its surface (box length - 3 intruder diameters, in grain diameters)",
+                             c.dem.window_width, std::max(0.0, widest / c.grains.diameter)));
+  }
   // Law-specific contact keys may only appear with their law.
   if (auto contact = r.at_path("grains.contact").as_table()) {
     for (const auto& [key, node] : *contact) {

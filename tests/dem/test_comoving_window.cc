@@ -16,19 +16,20 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kD = 0.02;  // m, grain diameter
 
-/// Grains on a square lattice of spacing 2 d (no two touch), 10 columns by 6 rows at y = 5 to
-/// 15 d (the middles of the window's layers, 2 d high), in a box 20 d long, periodic in x; the intruder (radius 0.5 d) moves along x at 1 m/s
-/// below them at y = 1 d, touching nothing.
+/// Grains at rest on a lattice, @p columns along x at @p spacing grain diameters (at least
+/// 1.25: no two touch), 6 rows 2 d apart at y = 5 to 15 d (the middles of the window's layers,
+/// 2 d high), in a box 20 d long, periodic in x; the tests' intruder (radius 0.5 d) moves along
+/// x at 1 m/s below them at y = 1 d, touching nothing.
 struct Lattice {
   std::vector<gd::Disk> grains;
   gd::SystemOptions options;
-  Lattice() {
+  explicit Lattice(int columns = 10, double spacing = 2.0) {
     options.box = {0.0, 20 * kD, 0.0, 16 * kD, true, false};
     options.dt = 1e-5;
     for (int row = 0; row < 6; ++row) {
-      for (int col = 0; col < 10; ++col) {
+      for (int col = 0; col < columns; ++col) {
         gd::Disk d;
-        d.x = (2 * col + 1) * kD;
+        d.x = spacing * (col + 0.5) * kD;
         d.y = (5 + 2 * row) * kD;
         d.r = 0.5 * kD;
         d.mass = 20.0 * kPi * d.r * d.r;
@@ -44,7 +45,7 @@ struct Lattice {
 // site) (s = sin^2(pi xi), the ramp across the band, xi = (x - centre) / width + 1/2), less a
 // share of its layer's total pull in proportion to its ramp: a_i -= s_i sum_j m_j a_j /
 // sum_j m_j s_j, so that the band pushes no layer as a whole. A lattice dense along x (spacing
-// 1.25 d, no two grains touching, one row per layer), at rest, on its sites except one grain of
+// 1.25 d, 16 columns, no two grains touching, one row per layer), at rest, on its sites except one grain of
 // row 2 inside the band, displaced by (0.2, 0.1) d. Expected accelerations of the first kick
 // (prepare(): the matching, then the pull): the displaced grain's and its row's band grains'
 // by the formula above (to 1e-12 relative), the row's total m a zero (to 1e-12 of the
@@ -52,22 +53,11 @@ struct Lattice {
 // own: sites, not identities, are checked by swapping two grains: each is pulled to the
 // other's site).
 TEST(ComovingWindow, PullIsASpringToTheSiteLessTheLayersRecoil) {
-  gd::SystemOptions o;
-  o.box = {0.0, 20 * kD, 0.0, 16 * kD, true, false};
-  o.dt = 1e-5;
-  std::vector<gd::Disk> sites;
-  for (int row = 0; row < 6; ++row) {
-    for (int col = 0; col < 16; ++col) {
-      gd::Disk d;
-      d.x = (1.25 * col + 0.5) * kD;
-      d.y = (5 + 2 * row) * kD;
-      d.r = 0.5 * kD;
-      d.mass = 20.0 * kPi * d.r * d.r;
-      sites.push_back(d);
-    }
-  }
+  const Lattice bed(16, 1.25);
+  const gd::SystemOptions& o = bed.options;
+  const std::vector<gd::Disk>& sites = bed.grains;
   const double v = 1.0, width = 6 * kD, rate = 50 * v / width, centre = 10 * kD;
-  const int g = 2 * 16 + 7;  // row 2, x = 9.25 d: inside the band [7, 13] d
+  const int g = 2 * 16 + 7;  // row 2, x = 9.375 d: inside the band [7, 13] d
   for (bool swapped : {false, true}) {
     SCOPED_TRACE(swapped ? "swapped with its neighbour" : "displaced");
     gd::DemSystem s(o);

@@ -54,6 +54,26 @@ void expect_same_samples(const gd::DemOutput& a, const gd::DemOutput& b) {
   ASSERT_EQ(a.contacts.size(), b.contacts.size());
 }
 
+/// Runs @p c with a checkpoint every 1,000 steps; returns them encoded (and the run's output
+/// in @p out).
+std::vector<std::vector<unsigned char>> run_with_checkpoints(const gd::DemConfig& c,
+                                                             gd::DemOutput* out = nullptr) {
+  std::vector<std::vector<unsigned char>> saved;
+  gd::RunControl control;
+  control.checkpoint_steps = 1000;
+  control.checkpoint = [&](const gd::RunCheckpoint& ck) { saved.push_back(gd::encode_checkpoint(ck)); };
+  gd::DemOutput o = gd::run_simulation(c, {}, {}, control);
+  if (out) *out = std::move(o);
+  return saved;
+}
+
+/// Runs @p c from the checkpoint @p ck.
+gd::DemOutput resume_from(const gd::DemConfig& c, const gd::RunCheckpoint& ck) {
+  gd::RunControl go_on;
+  go_on.resume = &ck;
+  return gd::run_simulation(c, {}, {}, go_on);
+}
+
 }  // namespace
 
 // Physics: dt must not exceed max_dt_fraction (0.1) of the Hertz binary collision time of two
@@ -296,18 +316,13 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
       c.threads = threads;
       const auto whole = gd::run_simulation(c);
       // a checkpoint every 1,000 steps; keep the second (past the steady start: contacts, fields)
-      std::vector<std::vector<unsigned char>> saved;
-      gd::RunControl control;
-      control.checkpoint_steps = 1000;
-      control.checkpoint = [&](const gd::RunCheckpoint& ck) { saved.push_back(gd::encode_checkpoint(ck)); };
-      const auto with_checkpoints = gd::run_simulation(c, {}, {}, control);
+      gd::DemOutput with_checkpoints;
+      const auto saved = run_with_checkpoints(c, &with_checkpoints);
       expect_same_samples(whole, with_checkpoints);
       ASSERT_GE(saved.size(), 2u);
       const gd::RunCheckpoint ck = gd::decode_checkpoint(saved[1]);
       EXPECT_EQ(ck.step, 2000);
-      gd::RunControl go_on;
-      go_on.resume = &ck;
-      const auto resumed = gd::run_simulation(c, {}, {}, go_on);
+      const auto resumed = resume_from(c, ck);
       EXPECT_EQ(resumed.resumed_from_step, 2000);
       expect_same_samples(whole, resumed);
       ASSERT_EQ(whole.contacts.size(), resumed.contacts.size());
@@ -334,16 +349,9 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
   // a checkpoint of another run length is refused
   c.lid_pressure = 0;
   c.threads = 1;
-  std::vector<unsigned char> one;
-  gd::RunControl control;
-  control.checkpoint_steps = 1000;
-  control.checkpoint = [&](const gd::RunCheckpoint& ck) { if (one.empty()) one = gd::encode_checkpoint(ck); };
-  gd::run_simulation(c, {}, {}, control);
-  const gd::RunCheckpoint ck = gd::decode_checkpoint(one);
+  const gd::RunCheckpoint ck = gd::decode_checkpoint(run_with_checkpoints(c).at(0));
   c.travel = 2.0;
-  gd::RunControl go_on;
-  go_on.resume = &ck;
-  EXPECT_THROW(gd::run_simulation(c, {}, {}, go_on), gd::ConfigError);
+  EXPECT_THROW(resume_from(c, ck), gd::ConfigError);
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 
@@ -372,22 +380,16 @@ TEST(Simulation, ResumedRunWithTheWindowGivesTheBitsOfTheUninterruptedRun) {
       differ = differ || whole.samples[k].fx != without.samples[k].fx;
     }
     EXPECT_TRUE(differ) << "the window must change the run";
-    std::vector<std::vector<unsigned char>> saved;
-    gd::RunControl control;
-    control.checkpoint_steps = 1000;
-    control.checkpoint = [&](const gd::RunCheckpoint& ck) { saved.push_back(gd::encode_checkpoint(ck)); };
-    gd::run_simulation(c, {}, {}, control);
+    const auto saved = run_with_checkpoints(c);
     ASSERT_GE(saved.size(), 2u);
     const gd::RunCheckpoint ck = gd::decode_checkpoint(saved[1]);
-    gd::RunControl go_on;
-    go_on.resume = &ck;
-    const auto resumed = gd::run_simulation(c, {}, {}, go_on);
+    const auto resumed = resume_from(c, ck);
     expect_same_samples(whole, resumed);
     EXPECT_EQ(whole.window_core_rms, resumed.window_core_rms);
     // the same checkpoint resumed by a run without the window: refused
     auto off = c;
     off.window_width = 0;
-    EXPECT_THROW(gd::run_simulation(off, {}, {}, go_on), gd::ConfigError);
+    EXPECT_THROW(resume_from(off, ck), gd::ConfigError);
   }
   std::filesystem::remove_all(c.packing_cache_dir);
 }

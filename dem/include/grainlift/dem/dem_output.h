@@ -68,7 +68,7 @@ struct DemOutput {
   double sleeping_fraction = 0;
   long long sleep_wakes = 0;
   int sleep_wake_builds = 0;
-  /// the co-moving window (DemConfig::window_width > 0): averages over list builds of the
+  /// the co-moving window (DemConfig::window_width > 0): averages over its matchings of the
   /// grains in its band, the fraction of them with a site, and the rms distance of those in
   /// the band's middle half to their sites (mean grain diameters)
   bool window = false;

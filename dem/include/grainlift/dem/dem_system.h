@@ -166,9 +166,9 @@ class DemSystem {
   /// periodic in x; @p width 0 turns it off (no grain is ever flagged: the same bits as
   /// without the call).
   void set_window(double width, double rate, double match_radius);
-  /// Averages over the list builds with the window on: grains in the band, the fraction of
-  /// them given a site, and the rms distance (m) to their sites of those in the band's middle
-  /// half (how well the band restores the bed); and how far the bed has slid along x since
+  /// Averages over the window's matchings (every ~0.1 match radius of its travel): grains in
+  /// the band, the fraction of them given a site, and the rms distance (m) to their sites of
+  /// those in the band's middle half (how well the band restores the bed); and how far the bed has slid along x since
   /// set_window (m, the layers' median displacements at the last matching, averaged).
   struct WindowStats {
     long long builds = 0;
@@ -491,7 +491,7 @@ class DemSystem {
       int grain, site;
     };
     std::vector<Candidate> candidates;  ///< scratch
-    WindowStats sums;  ///< sums over builds (averaged by window_stats())
+    WindowStats sums;  ///< sums over matchings (averaged by window_stats())
   } window_;
   // ---- sleeping grains (set_sleep, sleeping.cc)
   double sleep_speed_ = -1;   ///< m/s; < 0: off

@@ -33,6 +33,19 @@ struct PeriodicBox {
     if (periodic_y) dy -= ly() * std::nearbyint(dy / ly());
   }
 
+  /// @brief Wrap a position any number of box lengths away back into the box (wrap: under one).
+  inline void wrap_any(double& x, double& y) const {
+    if (periodic_x) {
+      x = xmin + std::fmod(x - xmin, lx());  // exact
+      if (x < xmin) x += lx();
+    }
+    if (periodic_y) {
+      y = ymin + std::fmod(y - ymin, ly());
+      if (y < ymin) y += ly();
+    }
+    wrap(x, y);  // xmin + a remainder just below the length may round to xmax
+  }
+
   /// @brief Wrap a position back into the box in the periodic directions.
   inline void wrap(double& x, double& y) const {
     if (periodic_x) {
