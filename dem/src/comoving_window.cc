@@ -101,15 +101,26 @@ void DemSystem::window_forces(std::int64_t kick_step) {
   detail::WindowBand band;
   band.centre = window_centre(kick_step);
   band.half = 0.5 * w.width;
-  band.phase = M_PI / w.width;
+  band.inv_half = 2.0 / w.width;
   band.rate = w.rate;
   band.site_x = w.site_x.data();
   band.site_y = w.site_y.data();
   band.target = w.target.data();
   band.box = opt_.box;
-  band.since = opt_.dt * static_cast<double>(kick_step - w.match_step);
-  band.off_x = w.off_x.data();
-  band.off_y = w.off_y.data();
+  // each layer's sites: moved by the slide at the matching and the layer's velocity since,
+  // wrapped into the box (the bed may have slid by several box lengths)
+  const double since = opt_.dt * static_cast<double>(kick_step - w.match_step);
+  const std::size_t nlayers = w.off_x.size();
+  w.shift_x.resize(nlayers);
+  w.shift_y.resize(nlayers);
+  for (std::size_t l = 0; l < nlayers; ++l) {
+    double sx = w.off_x[l] + w.vel_x[l] * since, sy = w.off_y[l] + w.vel_y[l] * since;
+    opt_.box.min_image_any(sx, sy);
+    w.shift_x[l] = sx;
+    w.shift_y[l] = sy;
+  }
+  band.shift_x = w.shift_x.data();
+  band.shift_y = w.shift_y.data();
   band.vel_x = w.vel_x.data();
   band.vel_y = w.vel_y.data();
   band.layer = w.layer.data();

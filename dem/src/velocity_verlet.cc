@@ -64,17 +64,17 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   // others one by one, a group of eight at a time.
   const bool simd = kMode != Kick::first && detail::avx512_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
-  // grains the vector kick leaves to the loop below: the intruder's candidates and the
-  // grains in reach of the co-moving window's band
+  // grains the vector kick leaves to the loop below: the intruder's candidates; the grains in
+  // reach of the co-moving window's band get its pull (window_forces, before the kicks) in
+  // either loop
   constexpr std::uint8_t kGeneral = kCandidate | kWindow;
-  detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
-                          dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
-                          sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
-                          kGeneral, kAccelSet, box};
-  // the co-moving window's pull (window_forces, before the kicks)
   const double* wax = window_.acc_x.data();
   const double* way = window_.acc_y.data();
   const double* wal = window_.acc_w.data();
+  detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
+                          dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
+                          sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
+                          kCandidate, kAccelSet, box, kWindow, wax, way, wal};
   for (int i = lo; i < hi;) {
     if (simd) {
       const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);

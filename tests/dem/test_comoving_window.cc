@@ -42,7 +42,7 @@ struct Lattice {
 }  // namespace
 
 // Physics: the band's pull on a grain inside it is a spring to its site, a = -s rate^2 (x -
-// site) (s = sin^2(pi xi), the ramp across the band, xi = (x - centre) / width + 1/2), less a
+// site) (s = (1 - u^2)^2, the ramp across the band, u = 2 (x - centre) / width), less a
 // share of its layer's total pull in proportion to its ramp: a_i -= s_i sum_j m_j a_j /
 // sum_j m_j s_j, so that the band pushes no layer as a whole. A lattice dense along x (spacing
 // 1.25 d, 16 columns, no two grains touching, one row per layer), at rest, on its sites except one grain of
@@ -77,8 +77,8 @@ TEST(ComovingWindow, PullIsASpringToTheSiteLessTheLayersRecoil) {
     s.prepare();
     const gd::ParticleArrays& p = s.particles();
     auto ramp = [&](double x) {
-      const double xi = (x - centre) / width + 0.5;
-      return xi > 0 && xi < 1 ? std::pow(std::sin(kPi * xi), 2) : 0.0;
+      const double u = 2.0 * (x - centre) / width;
+      return std::fabs(u) < 1 ? std::pow(1.0 - u * u, 2) : 0.0;
     };
     double sum_s = 0, fx = 0, fy = 0;
     std::vector<double> pull_x(moved.size(), 0.0), pull_y(moved.size(), 0.0);

@@ -180,20 +180,31 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
 
 // The vector (AVX-512) loops of the step (pair screen, kick and drift, Kumar's law) give the
 // bits of the scalar code: the same run with them forbidden, on 1 and 2 threads, gives the
-// same intruder samples. Tolerance: exact equality. (Without AVX-512 both runs are scalar.)
+// same intruder samples; also with the co-moving window, whose pull the vector kick adds to
+// the band's grains (the run of the window's checkpoint test). Tolerance: exact equality.
+// (Without AVX-512 both runs are scalar.)
 TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
-  auto c = short_seeded_case("simd");
+  auto plain = short_seeded_case("simd");
+  auto window = small_case(30, 20, 0.8);
+  window.seed = 22;
+  window.travel = 1.5;
+  window.steady_travel = 0.5;
+  window.window_width = 8;
+  window.packing_cache_dir = temp_cache_dir("simd_window");
   std::printf("vector kernels on this CPU: %s\n", gd::vector_kernels() ? "yes" : "no");
-  for (int threads : {1, 2}) {
-    c.threads = threads;
-    gd::set_vector_kernels(true);
-    const auto vec = gd::run_simulation(c);
-    gd::set_vector_kernels(false);
-    const auto scalar = gd::run_simulation(c);
-    gd::set_vector_kernels(true);
-    expect_same_samples(vec, scalar);
+  for (gd::DemConfig* c : {&plain, &window}) {
+    SCOPED_TRACE(c->window_width > 0 ? "window" : "no window");
+    for (int threads : {1, 2}) {
+      c->threads = threads;
+      gd::set_vector_kernels(true);
+      const auto vec = gd::run_simulation(*c);
+      gd::set_vector_kernels(false);
+      const auto scalar = gd::run_simulation(*c);
+      gd::set_vector_kernels(true);
+      expect_same_samples(vec, scalar);
+    }
+    std::filesystem::remove_all(c->packing_cache_dir);
   }
-  std::filesystem::remove_all(c.packing_cache_dir);
 }
 
 // Physics: with mu = 0 between grains the Coulomb cap makes every tangential force zero, so

@@ -160,7 +160,7 @@ class DemSystem {
   /// sites carried with the bed where it has slid (each 2 match radii high layer's median
   /// displacement and velocity over its grains outside the band). Inside the band a grain
   /// feels a = -s rate^2 (x - site) - 2 sqrt(s) rate (v - v_layer) (alpha = -2 sqrt(s) rate
-  /// omega), s = sin^2(pi xi), xi in [0, 1] across the band (zero at its edges), less its share
+  /// omega), s = (1 - u^2)^2, u in (-1, 1) across the band (zero at its edges), less its share
   /// (by s) of its layer's total: the band restores the arrangement of the grains and pushes no
   /// layer as a whole. Needs the intruder (set_intruder first), moving along x in a box
   /// periodic in x; @p width 0 turns it off (no grain is ever flagged: the same bits as
@@ -479,6 +479,7 @@ class DemSystem {
     /// per grain: the pull of the kick to come (window_forces; 0 outside the band)
     std::vector<double> acc_x, acc_y, acc_w;
     std::vector<double> layer_sum;  ///< scratch of window_forces: per layer m s, m ax, m ay
+    std::vector<double> shift_x, shift_y;  ///< scratch of window_forces: per layer, the sites' shift
     std::vector<double> weight;     ///< scratch of window_forces: per grain, its ramp s (0 outside)
     std::vector<int> layer_first, layer_grain, layer_fill;  ///< grains outside the band by layer
     std::vector<int> target;   ///< per grain: its site, or -1
