@@ -71,7 +71,7 @@ def main():
     laps = [(30, 60)] + [(lo, lo + 30) for lo in range(60, int(a.travel), 30)]
     laps = [(lo, min(hi, a.travel)) for lo, hi in laps] + [(60, a.travel), (30, a.travel)]
     head = " | ".join(f"{lo:g}-{hi:g} d drag / lift" for lo, hi in laps)
-    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d), bed slide (d) |")
+    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d), bed slide (d), band contacts |")
     print("| --- | --- | " + " | ".join("---" for _ in laps) + " | --- | --- |")
     pooled = {}
     for kind in a.runs:
@@ -84,7 +84,8 @@ def main():
                 cells.append(f"{dm:.3f} +- {de:.3f} / {lm:.3f} +- {le:.3f}")
                 pooled.setdefault((kind, lo, hi), []).append((dm, de, lm, le))
             w = (f"{diag['window_band_grains']:.0f}, {diag['window_matched_fraction']:.3f}, "
-                 f"{diag['window_core_rms']:.3f}, {diag['window_bed_slide']:.1f}" if diag else "-")
+                 f"{diag['window_core_rms']:.3f}, {diag['window_bed_slide']:.1f}, "
+                 f"{diag.get('window_band_contacts', float('nan')):.2f}" if diag else "-")
             print(f"| {kind} | {seed} | " + " | ".join(cells) + f" | {wall:.0f} | {w} |")
     print()
     print("Pooled over the seeds (mean of the beds; error: block errors combined):")

@@ -293,6 +293,31 @@ void DemSystem::update_window() {
   w.sums.core_rms += core > 0 ? std::sqrt(core2 / core) : 0.0;
 }
 
+double DemSystem::window_band_contacts() const {
+  if (!(window_.width > 0)) return 0.0;
+  const PeriodicBox& box = opt_.box;
+  const double centre = window_centre(steps_);
+  auto in_band = [&](int g) {
+    if (g >= n_grains_) return false;
+    double dx = p_.x[g] - centre, dy = 0;
+    box.min_image(dx, dy);
+    return std::fabs(dx) < 0.5 * window_.width;
+  };
+  long long band = 0, ends = 0;
+  for (int g = 0; g < n_grains_; ++g) band += in_band(g);
+  const std::size_t np = nl_.pairs();
+  for (std::size_t k = 0; k < np; ++k) {
+    const int i = nl_.owner[k], j = nl_.partner[k];
+    const bool bi = in_band(i), bj = in_band(j);
+    if (!bi && !bj) continue;
+    double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j];
+    box.min_image(dx, dy);
+    const double rs = p_.r[i] + p_.r[j];
+    if (dx * dx + dy * dy < rs * rs) ends += int(bi) + int(bj);
+  }
+  return band > 0 ? double(ends) / double(band) : 0.0;
+}
+
 DemSystem::WindowStats DemSystem::window_stats() const {
   WindowStats s = window_.sums;
   for (double o : window_.off_x) s.slide += o / static_cast<double>(window_.off_x.size());

@@ -387,6 +387,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     out.window_matched_fraction = ws.matched_fraction;
     out.window_core_rms = ws.core_rms / d;
     out.window_bed_slide = ws.slide / d;
+    out.window_band_contacts = s.window_band_contacts();
   }
   out.sleep_wakes = s.woken();
   out.sleep_wake_builds = s.wake_builds();

@@ -159,3 +159,20 @@ TEST(ComovingWindow, WidthZeroChangesNothing) {
   }
   EXPECT_EQ(s1.window_stats().builds, 0);
 }
+
+// Physics: the band's contact number (the run's warning that the band stiffens a contact
+// network, dem_solver.cc) counts, per grain inside the band, the grains it touches now. Rows of
+// grains 0.995 d apart along x (each touches its two neighbours; rows 2 d apart do not touch)
+// give exactly 2 inside a band away from the rows' ends; the same rows 1.25 d apart give 0.
+TEST(ComovingWindow, BandContactsCountTheTouchingNeighbours) {
+  for (double spacing : {0.995, 1.25}) {
+    SCOPED_TRACE("spacing " + std::to_string(spacing));
+    const Lattice bed(16, spacing);
+    gd::DemSystem s(bed.options);
+    s.set_bodies(bed.grains, {});
+    s.set_intruder(0.0, kD, 0.5 * kD, 1.0, 0.0, 0.0, 0.0);
+    s.set_window(6 * kD, 50.0 / (6 * kD), kD);  // band [7, 13] d: rows run 0 to 15.9 d
+    s.prepare();
+    EXPECT_EQ(s.window_band_contacts(), spacing < 1.0 ? 2.0 : 0.0);
+  }
+}

@@ -74,6 +74,7 @@ struct DemOutput {
   bool window = false;
   double window_band_grains = 0, window_matched_fraction = 0, window_core_rms = 0;
   double window_bed_slide = 0;  ///< mean grain diameters the bed slid along x (window on)
+  double window_band_contacts = 0;  ///< contacts per grain inside the band at the end (window on)
   bool stopped_early = false;
   /// the prepared bed's structure at rest (bed_fingerprint.h); gap_fraction empty when not
   /// measured (a run resumed from a checkpoint)

@@ -176,6 +176,10 @@ class DemSystem {
     double slide = 0;
   };
   WindowStats window_stats() const;
+  /// The mean number of grains each grain inside the window's band touches now (0 without
+  /// the window or with an empty band): about 0.1 in a dilute bed, 3 or more in a contact
+  /// network, where the band's springs stiffen the bed (docs/performance.md, Skips).
+  double window_band_contacts() const;
   /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
   void set_background_damping(double rate) { damping_rate_ = rate; }
   /// @brief Multiply every grain radius by factor (soft compression by radius growth).
