@@ -147,11 +147,19 @@ void DemSystem::window_forces(std::int64_t kick_step) {
   // back or, following it, drove it: on the reduced Kumar bed three times the drag, or a bed
   // overtaking the intruder). Not in equal shares: a grain at the band's edge, with no spring
   // to hold it, would be driven by the others' recoil.
+  // (per layer the pull per unit ramp, sum m a / sum m s, then each grain's share)
+  for (std::size_t l = 0; l < nl; ++l) {
+    double* q = w.layer_sum.data() + 3 * l;
+    if (q[0] > 0) {
+      q[1] /= q[0];
+      q[2] /= q[0];
+    }
+  }
   for (int g : w.flagged) {
     if (!(w.weight[g] > 0)) continue;
     const double* q = w.layer_sum.data() + 3 * w.layer[g];
-    w.acc_x[g] -= w.weight[g] * q[1] / q[0];
-    w.acc_y[g] -= w.weight[g] * q[2] / q[0];
+    w.acc_x[g] -= w.weight[g] * q[1];
+    w.acc_y[g] -= w.weight[g] * q[2];
   }
 }
 
