@@ -136,7 +136,8 @@ std::vector<KeySpec> make_keys() {
                    "and moving with it, pulls the grains back onto the prepared bed's sites, so "
                    "that the intruder meets the prepared bed instead of its own wake coming "
                    "round the periodic box; for dilute beds, checked against a longer box (on "
-                   "the reduced dense bed it raises the drag 1.7x: docs/performance.md); 0: off"));
+                   "the reduced dense bed it raises the drag 1.7x, and a run warns when the "
+                   "band's grains touch more than one other each: docs/performance.md); 0: off"));
   k.push_back(real("dem.checkpoint_minutes", false, "10.0", 0, 1e6, false, false, "min",
                    "wall time between checkpoints (<out>/dem.checkpoint; `grainlift run CASE "
                    "--resume DIR` goes on from it); 0: only when interrupted"));
