@@ -204,15 +204,15 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       // the window's band: its pull added on the lanes in its reach that are awake (a sleeper
       // keeps its bits, as finish_impl skips it)
       const std::uint64_t wf = f & (kOnes * k.window_bit);
+      std::uint64_t awake_wf = wf;  // those lanes that are awake
       if (wf) {
-        std::uint64_t awake = ~0ULL;
         if (k.dormant) {
           std::uint64_t s;
           std::memcpy(&s, k.dormant + i, 8);
-          awake = ~(s * 0xff);
+          awake_wf &= ~(s * 0xff);
         }
         const __mmask8 wm = _mm512_test_epi64_mask(
-            _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(wf & awake))),
+            _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(awake_wf))),
             _mm512_set1_epi64(0xff));
         axn = _mm512_mask_add_pd(axn, wm, axn, _mm512_loadu_pd(k.wax + i));
         ayn = _mm512_mask_add_pd(ayn, wm, ayn, _mm512_loadu_pd(k.way + i));
@@ -231,18 +231,10 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       _mm512_mask_storeu_pd(k.sfx + i, touched, zero);
       _mm512_mask_storeu_pd(k.sfy + i, touched, zero);
       _mm512_mask_storeu_pd(k.sq + i, touched, zero);
-      std::uint64_t nf = t * k.accel_bit;
-      if (wf) {
-        // a sleeper is never touched; its flags are its band flag only (sleeping.cc: no
-        // sleeper has "accelerations set"), kept as they are
-        std::uint64_t awake_wf = wf;
-        if (k.dormant) {
-          std::uint64_t s;
-          std::memcpy(&s, k.dormant + i, 8);
-          awake_wf &= ~(s * 0xff);
-        }
-        nf = wf | (((t * 0xff) | awake_wf) & (kOnes * k.accel_bit));
-      }
+      // (a sleeper is never touched; its flags are its band flag only, as sleeping.cc lets no
+      // grain with "accelerations set" sleep: kept as they are)
+      const std::uint64_t nf =
+          wf ? wf | (((t * 0xff) | awake_wf) & (kOnes * k.accel_bit)) : t * k.accel_bit;
       const std::uint64_t nt = 0;
       std::memcpy(k.flags + i, &nf, 8);
       std::memcpy(k.touched + i, &nt, 8);

@@ -131,6 +131,19 @@ TEST(Simulation, CollisionTimeFormulaMatchesAnElasticCollision) {
 namespace {
 /// A 60 d x 40 d bed at Phi 0.8 (~2300 grains, enough for two threads), seed 11, a short run
 /// (travel 0.4 d, steady from 0.1 d), its packing cached under a fresh directory named @p tag.
+/// The co-moving window's test run: 30 d x 20 d at Phi 0.8, 1.5 d of travel, a band
+/// kWindowWidth d wide (at most (30 - 3 x 5) d); @p width 0 is the same run without it.
+constexpr double kWindowWidth = 8;
+gd::DemConfig window_case(const char* tag, double width = kWindowWidth) {
+  auto c = small_case(30, 20, 0.8);
+  c.seed = 22;
+  c.travel = 1.5;
+  c.steady_travel = 0.5;
+  c.window_width = width;
+  c.packing_cache_dir = temp_cache_dir(tag);
+  return c;
+}
+
 gd::DemConfig short_seeded_case(const char* tag) {
   auto c = small_case(60, 40, 0.8);
   c.travel = 0.4;
@@ -185,12 +198,7 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
 // (Without AVX-512 both runs are scalar.)
 TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
   auto plain = short_seeded_case("simd");
-  auto window = small_case(30, 20, 0.8);
-  window.seed = 22;
-  window.travel = 1.5;
-  window.steady_travel = 0.5;
-  window.window_width = 8;
-  window.packing_cache_dir = temp_cache_dir("simd_window");
+  auto window = window_case("simd_window");
   std::printf("vector kernels on this CPU: %s\n", gd::vector_kernels() ? "yes" : "no");
   for (gd::DemConfig* c : {&plain, &window}) {
     SCOPED_TRACE(c->window_width > 0 ? "window" : "no window");
@@ -372,13 +380,9 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
 // and two threads; and the window acts: the samples are not those of the run without it. A
 // checkpoint taken without the window is refused by a run with it.
 TEST(Simulation, ResumedRunWithTheWindowGivesTheBitsOfTheUninterruptedRun) {
-  auto c = small_case(30, 20, 0.8);
-  c.seed = 22;
-  c.travel = 1.5;
-  c.steady_travel = 0.5;
-  c.packing_cache_dir = temp_cache_dir("resume_window");
+  auto c = window_case("resume_window", 0.0);
   const auto without = gd::run_simulation(c);
-  c.window_width = 8;  // at most (30 - 3 x 5) d
+  c.window_width = kWindowWidth;
   for (int threads : {1, 2}) {
     SCOPED_TRACE("threads " + std::to_string(threads));
     c.threads = threads;
