@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <initializer_list>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/mpi_session.h"
 #include "grainlift/continuum/solver.h"
 #include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/case_geometry.h"
@@ -49,23 +51,107 @@ T choice(const std::string& name, std::initializer_list<std::pair<const char*, T
 }
 }  // namespace
 
+namespace {
+/// The FE box: the case's domain (solver_box) with the far field of continuum.far_field, or
+/// the symmetric box of continuum.box_half_size.
+void set_box(const Case& c, ContinuumConfig& f) {
+  const double D = c.intruder.diameter;
+  if (c.continuum.box_half_size[0] > 0 && c.continuum.box_half_size[1] > 0) {
+    f.far_field = FarField::symmetric_box;
+    f.half_width = c.continuum.box_half_size[0];
+    f.half_height = c.continuum.box_half_size[1];
+    if (f.half_width <= D || f.half_height <= D)
+      throw InputError(fmt::format(
+          "{}: continuum.box_half_size = [{}, {}] m must exceed the intruder diameter {} m",
+          c.source.path, f.half_width, f.half_height, D));
+    return;
+  }
+  const std::string mode = continuum_far_field(c);
+  if (c.intruder.velocity[1] != 0)
+    throw InputError(fmt::format(
+        "{}: the continuum solves the case's box with the intruder moving along x; intruder."
+        "velocity = [{}, {}] m/s has a y part: set continuum.box_half_size for a box of the "
+        "continuum's own",
+        c.source.path, c.intruder.velocity[0], c.intruder.velocity[1]));
+  const SolverBox b = solver_box(c);
+  const auto& p = c.intruder.position;
+  f.box_bottom = b.ymin - p[1];
+  f.box_top = b.ymax - p[1];
+  f.top = b.top == BoxEdge::free_surface ? TopEdge::free_surface : TopEdge::wall;
+  if (mode == "periodic") {
+    if (b.left != BoxEdge::periodic)
+      throw InputError(fmt::format(
+          "{}: continuum.far_field = \"periodic\" needs a case periodic in x without side "
+          "walls (domain.periodic[0] = true); use \"open\"",
+          c.source.path));
+    // the period centred on the intruder (the same periodic box, shifted)
+    f.far_field = FarField::periodic;
+    f.box_left = -0.5 * (b.xmax - b.xmin);
+    f.box_right = 0.5 * (b.xmax - b.xmin);
+    if (f.top == TopEdge::wall && MpiSession::size() > 1)
+      throw InputError(fmt::format(
+          "{}: continuum.far_field = \"periodic\" under a top wall or lid fixes the pressure "
+          "level by one constraint over the whole lid, which runs on one MPI rank only: run "
+          "without mpirun, or set continuum.far_field = \"open\"",
+          c.source.path));
+  } else {
+    f.far_field = FarField::open;
+    const double up = c.continuum.open_length[0] * D, down = c.continuum.open_length[1] * D;
+    const bool to_left = c.intruder.velocity[0] < 0;  // the medium comes from the left
+    f.box_left = to_left ? -up : -down;
+    f.box_right = to_left ? down : up;
+  }
+  const double R = 0.5 * D;
+  if (!(f.box_bottom < -1.1 * R && f.box_top > 1.1 * R))
+    throw InputError(fmt::format(
+        "{}: the grains' box in y, [{}, {}] m (the walls' inner edges), leaves less than a "
+        "tenth of the intruder's radius between the intruder at y = {} m and a wall",
+        c.source.path, b.ymin, b.ymax, p[1]));
+}
+
+/// One line on the FE box against the DEM's, for the run's progress and the output's notes.
+std::string box_statement(const Case& c, const ContinuumConfig& f) {
+  const SolverBox b = solver_box(c);
+  const double D = c.intruder.diameter;
+  const auto& p = c.intruder.position;
+  if (f.far_field == FarField::symmetric_box)
+    return fmt::format(
+        "warning: the FE box is not the DEM's: continuum.box_half_size gives [{:.4g}, {:.4g}] x "
+        "[{:.4g}, {:.4g}] m about the intruder (u = -V on its inflow sides), where the grains "
+        "fill [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m",
+        p[0] - f.half_width, p[0] + f.half_width, p[1] - f.half_height, p[1] + f.half_height,
+        b.xmin, b.xmax, b.ymin, b.ymax);
+  const std::string edges =
+      fmt::format("bottom {} at y = {:.4g} m, top {} at y = {:.4g} m", box_edge_name(b.bottom),
+                  b.ymin, box_edge_name(b.top), b.ymax);
+  if (f.far_field == FarField::periodic)
+    return fmt::format("FE box = the DEM's: periodic in x with period {:.4g} m ({:.3g} D), {}",
+                       b.xmax - b.xmin, (b.xmax - b.xmin) / D, edges);
+  std::string dem_x =
+      b.left == BoxEdge::periodic
+          ? fmt::format("the DEM's x is periodic ({:.3g} D): this is its first crossing, "
+                        "before the intruder meets its own wake after {:.4g} d of travel",
+                        (b.xmax - b.xmin) / D, b.wake_travel / c.grains.diameter)
+          : fmt::format("the DEM's box spans x in [{:.4g}, {:.4g}] m", b.xmin, b.xmax);
+  return fmt::format("FE box: the DEM's walls ({}), open in x: {:.3g} D upstream and {:.3g} D "
+                     "downstream of the intruder (continuum.open_length); {}",
+                     edges, c.continuum.open_length[0], c.continuum.open_length[1], dem_x);
+}
+
+const char* far_field_name(FarField f) {
+  switch (f) {
+    case FarField::symmetric_box: return "symmetric_box";
+    case FarField::periodic: return "periodic";
+    case FarField::open: return "open";
+  }
+  return "?";
+}
+}  // namespace
+
 ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir) {
   ContinuumConfig f;
   f.intruder_diameter = c.intruder.diameter;
-  if (c.continuum.box_half_size[0] > 0 && c.continuum.box_half_size[1] > 0) {
-    f.half_width = c.continuum.box_half_size[0];
-    f.half_height = c.continuum.box_half_size[1];
-  } else {
-    const auto& d = c.domain;
-    const auto& p = c.intruder.position;
-    f.half_width = std::min(p[0] - d.x_range[0], d.x_range[1] - p[0]);
-    f.half_height = std::min(p[1] - d.y_range[0], d.y_range[1] - p[1]);
-  }
-  if (f.half_width <= c.intruder.diameter || f.half_height <= c.intruder.diameter)
-    throw InputError(fmt::format(
-        "{}: the continuum box (half size {} x {} m) must be wider than the intruder diameter "
-        "{} m; set continuum.box_half_size",
-        c.source.path, f.half_width, f.half_height, c.intruder.diameter));
+  set_box(c, f);
   f.intruder_velocity = c.intruder.velocity;
   f.intruder_omega = c.intruder.omega;
   f.gravity = c.scene.gravity;
@@ -193,10 +279,11 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
   }
   r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
-  q.domain_xmin = c.intruder.position[0] - cfg.half_width;
-  q.domain_xmax = c.intruder.position[0] + cfg.half_width;
-  q.domain_ymin = c.intruder.position[1] - cfg.half_height;
-  q.domain_ymax = c.intruder.position[1] + cfg.half_height;
+  const std::array<double, 4> e = box_edges(cfg);
+  q.domain_xmin = c.intruder.position[0] + e[0];
+  q.domain_xmax = c.intruder.position[0] + e[1];
+  q.domain_ymin = c.intruder.position[1] + e[2];
+  q.domain_ymax = c.intruder.position[1] + e[3];
   q.pressure_scale = cfg.ambient_pressure;
   r.meta.notes = fmt::format("{} cells, {} unknowns, {} nonlinear steps, final relative residual "
                              "{:.3g}, ill-posed share {:.3g} (all in /diagnostics)",
@@ -222,7 +309,9 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
               {"surface_integral_fy", out.force_fy_surface},
               {"surface_integral_torque", out.torque_surface}};
   if (cfg.linearised_gravity) d.values["correction_seconds"] = out.correction_seconds;
-  d.texts = {{"linear_solver", c.continuum.linear_solver},
+  d.texts = {{"far_field", far_field_name(cfg.far_field)},
+             {"box", box_statement(c, cfg)},
+             {"linear_solver", c.continuum.linear_solver},
              {"law", c.continuum.regularisation},
              {"pressure_source", pressure_source(c)},
              {"rheology_source", c.continuum.law_source}};
@@ -285,6 +374,7 @@ SolverEntry solver_entry() {
         opt.save_partial(std::move(r));
       };
     }
+    progress.message(box_statement(c, cfg));
     if (!c.pressure_matched())
       progress.message(fmt::format(
           "warning: P0 = {:g} Pa includes continuum.ambient_pressure = {:g} Pa, which the "

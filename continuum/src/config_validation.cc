@@ -1,4 +1,5 @@
 // validate_config(): the ranges and the consistency of a ContinuumConfig (solver.h). deal.II-free.
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -21,10 +22,24 @@ bool finite(double x) { return std::isfinite(x); }
 
 void validate_config(const ContinuumConfig& c) {
   require(finite(c.intruder_diameter) && c.intruder_diameter > 0, "intruder_diameter must be > 0");
-  require(finite(c.half_width) && c.half_width > c.intruder_diameter,
-          "half_width must be > intruder_diameter");
-  require(finite(c.half_height) && c.half_height > c.intruder_diameter,
-          "half_height must be > intruder_diameter");
+  if (c.far_field == FarField::symmetric_box) {
+    require(finite(c.half_width) && c.half_width > c.intruder_diameter,
+            "half_width must be > intruder_diameter");
+    require(finite(c.half_height) && c.half_height > c.intruder_diameter,
+            "half_height must be > intruder_diameter");
+  } else {
+    // every edge clear of the intruder by a tenth of its radius (the mesh's block around the
+    // hole then fits inside the box)
+    const double R = 0.5 * c.intruder_diameter;
+    std::ostringstream box;
+    box << "the box [" << c.box_left << ", " << c.box_right << "] x [" << c.box_bottom << ", "
+        << c.box_top << "] m about the intruder's centre";
+    require(finite(c.box_left) && finite(c.box_right) && finite(c.box_bottom) &&
+                finite(c.box_top) && c.box_left < -1.1 * R && c.box_right > 1.1 * R &&
+                c.box_bottom < -1.1 * R && c.box_top > 1.1 * R,
+            box.str() + " must clear the intruder (radius " + std::to_string(R) +
+                " m) by a tenth of its radius on every side");
+  }
   require(finite(c.intruder_velocity[0]) && finite(c.intruder_velocity[1]), "intruder_velocity must be finite");
   require(finite(c.intruder_omega), "intruder_omega must be finite");
   require(finite(c.gravity[0]) && finite(c.gravity[1]), "gravity must be finite");
@@ -32,10 +47,10 @@ void validate_config(const ContinuumConfig& c) {
   require(finite(c.ambient_pressure) && c.ambient_pressure > 0, "ambient_pressure must be > 0");
   // the lithostatic pressure P0 + rho g.x must not be negative on the box (0 is allowed: a
   // box whose top is the free surface)
-  for (const double sx : {-1.0, 1.0})
-    for (const double sy : {-1.0, 1.0}) {
-      const double p = c.ambient_pressure + c.bulk_density * (c.gravity[0] * sx * c.half_width +
-                                                              c.gravity[1] * sy * c.half_height);
+  const std::array<double, 4> e = box_edges(c);
+  for (const double x : {e[0], e[1]})
+    for (const double y : {e[2], e[3]}) {
+      const double p = c.ambient_pressure + c.bulk_density * (c.gravity[0] * x + c.gravity[1] * y);
       require(p >= -1e-9 * c.ambient_pressure,
               "ambient_pressure too small: the lithostatic pressure P0 + rho g.x is negative in a "
               "corner of the box (the box reaches above the free surface)");

@@ -33,7 +33,6 @@ constexpr int kMaxSplits = 6, kStageIterations = 20;
 CylinderProblem::CylinderProblem(const ContinuumConfig& config,
                                  std::function<void(const std::string&)> log)
     : config_(config), log_(std::move(log)), R_(0.5 * config.intruder_diameter),
-      W_(config.half_width), H_(config.half_height),
       V_({config.intruder_velocity[0], config.intruder_velocity[1]}),
       g_({config.gravity[0], config.gravity[1]}), omega_(config.intruder_omega),
       rho_(config.bulk_density), P0_(config.ambient_pressure), speed_(V_.norm()),
@@ -114,7 +113,7 @@ void CylinderProblem::say(const std::string& s) const {
 
 /// The box with the intruder's hole, finest at the intruder (see IntruderMesh).
 void CylinderProblem::make_mesh(int refinement) {
-  mesh_ = std::make_unique<IntruderMesh>(R_, W_, H_, refinement);
+  mesh_ = std::make_unique<IntruderMesh>(R_, box_edges(config_), refinement);
 }
 
 ProblemSetup CylinderProblem::make_setup(const Vec2& g_used) const {
@@ -129,19 +128,43 @@ ProblemSetup CylinderProblem::make_setup(const Vec2& g_used) const {
   setup.linear_solver = c.linear_solver;
   setup.schur_approximation = c.schur_approximation;
   if (g_used.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g_used); };
-  // far field: Dirichlet u = -V where the flow enters or slides along the box, the
-  // lithostatic traction -p_lith n where it leaves (or everywhere if V = 0).
+  // far field: Dirichlet u = -V where the flow enters or slides along the box (and on the
+  // walls, at rest in the lab frame), the lithostatic traction -p_lith n where it leaves (or
+  // at both x ends if V = 0)
   const auto far_velocity = [=](const Point2&) { return Vec2(-V); };
   const auto lithostatic = [=](const Point2& x, const Vec2& n) { return Vec2(-p_lith(x) * n); };
-  const std::pair<types::boundary_id, Vec2> sides[] = {{kLeft, Vec2({-1, 0})},
-                                                       {kRight, Vec2({1, 0})},
-                                                       {kBottom, Vec2({0, -1})},
-                                                       {kTop, Vec2({0, 1})}};
-  for (const auto& [id, n] : sides) {
+  const auto inflow_or_outflow = [&](types::boundary_id id, const Vec2& n) {
     if (speed == 0 || (-V) * n > 1e-12 * speed)
       setup.bc.traction[id] = lithostatic;
     else
       setup.bc.dirichlet[id] = far_velocity;
+  };
+  if (c.far_field == FarField::symmetric_box) {
+    inflow_or_outflow(kLeft, Vec2({-1, 0}));
+    inflow_or_outflow(kRight, Vec2({1, 0}));
+    inflow_or_outflow(kBottom, Vec2({0, -1}));
+    inflow_or_outflow(kTop, Vec2({0, 1}));
+  } else {
+    setup.bc.dirichlet[kBottom] = far_velocity;
+    // a free surface carries the lithostatic pressure there: zero when P0 is the weight of
+    // the bed above the intruder, continuum.ambient_pressure's surcharge otherwise, and P0 in
+    // the base state of linearised gravity (no gravity)
+    if (c.top == TopEdge::wall)
+      setup.bc.dirichlet[kTop] = far_velocity;
+    else
+      setup.bc.traction[kTop] = lithostatic;
+    if (c.far_field == FarField::open) {
+      inflow_or_outflow(kLeft, Vec2({-1, 0}));
+      inflow_or_outflow(kRight, Vec2({1, 0}));
+    } else {
+      setup.bc.periodic_x.push_back({kLeft, kRight});
+      // no traction anywhere: the pressure level is the lithostatic pressure's mean on the
+      // top wall (there, with u uniform along the wall, the normal stress is -p: the lid's
+      // load per length is the mean pressure on it)
+      if (c.top == TopEdge::wall)
+        setup.bc.mean_pressure = MeanPressure{
+            kTop, P0 + rho * (g_used[0] * 0.5 * (c.box_left + c.box_right) + g_used[1] * c.box_top)};
+    }
   }
   const auto wall_velocity = [omega](const Point2& x) { return Vec2({-omega * x[1], omega * x[0]}); };
   if (c.wall == WallCondition::no_slip) {
@@ -369,10 +392,17 @@ void CylinderProblem::schedule_after_refinement() {
 void CylinderProblem::correct_for_gravity() {
   say("continuum: first-order gravity correction (one linear solve at the base state)");
   const auto t0 = std::chrono::steady_clock::now();
-  corrected_ = std::make_unique<FlowProblem>(mesh_->tria(), make_setup(g_));
+  const ProblemSetup with_gravity = make_setup(g_);
+  corrected_ = std::make_unique<FlowProblem>(mesh_->tria(), with_gravity);
   corrected_->set_viscosity(&rheology_);
   corrected_->setup_system();
   corrected_->solution() = problem_->solution();
+  if (with_gravity.bc.mean_pressure && setup_.bc.mean_pressure)
+    // the pressure level with gravity: the base state shifted by the change of the top's
+    // lithostatic pressure (a constant), so that it meets the constraint the update keeps
+    corrected_->solution().block(1).add(with_gravity.bc.mean_pressure->value -
+                                        setup_.bc.mean_pressure->value);
+  corrected_base_ = corrected_->solution();
   VectorType residual;
   corrected_->assemble_system(corrected_->solution(), true, true, residual);
   corrected_->solve(residual, du_);
@@ -439,7 +469,7 @@ void CylinderProblem::compute_boundary_outputs() {
     // First order throughout: the outputs are linear functionals of the residual, so they
     // are taken as S(u_0; g) + dS/du . du, the derivative by a central difference along du
     // (exact for the linear gravity terms; O(h^2) for the rheology, h = 1e-4).
-    const VectorType u0 = problem_->solution();
+    const VectorType u0 = corrected_base_;
     constexpr double h = 1e-4;
     const auto at = [&](double t) {
       corrected_->solution() = u0;

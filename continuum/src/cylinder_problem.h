@@ -71,7 +71,7 @@ class CylinderProblem {
   const ContinuumConfig& config_;
   std::function<void(const std::string&)> log_;
   // the case in the intruder frame
-  double R_, W_, H_;
+  double R_;
   Vec2 V_, g_;
   double omega_, rho_, P0_, speed_, vref_;
   bool linearised_;  ///< linearised gravity: the nonlinear solve is the base state without it
@@ -93,6 +93,7 @@ class CylinderProblem {
   // linearised gravity: the problem with gravity and the first-order correction
   std::unique_ptr<FlowProblem> corrected_;
   VectorType du_;
+  VectorType corrected_base_;  ///< the base state in the problem with gravity (its pressure level)
 
   ContinuumOutput out_;
 };

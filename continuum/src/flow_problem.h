@@ -58,6 +58,14 @@ struct FrictionWall {
   double slip_scale = 1e-3;   ///< m/s, eps
 };
 
+/// The pressure level of a problem with no traction boundary: the mean pressure over the
+/// boundary @p id equals @p value (Pa). One linear constraint on the pressure dofs of that
+/// boundary (FlowProblem::make_constraints); one MPI rank only.
+struct MeanPressure {
+  dealii::types::boundary_id id = 0;
+  double value = 0;
+};
+
 struct BoundarySpec {
   std::map<dealii::types::boundary_id, VectorField> dirichlet;  ///< imposed velocity
   /// imposed traction sigma.n (n the outward normal of the medium), given x and n
@@ -65,6 +73,7 @@ struct BoundarySpec {
   std::optional<FrictionWall> friction;
   /// pairs of boundary ids identified by periodicity along x
   std::vector<std::pair<dealii::types::boundary_id, dealii::types::boundary_id>> periodic_x;
+  std::optional<MeanPressure> mean_pressure;
   bool pin_pressure = false;  ///< fix one pressure dof (all-Dirichlet problems) to initial_pressure
 };
 
@@ -195,6 +204,8 @@ class FlowProblem {
                               const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
 
   void make_constraints(dealii::AffineConstraints<double>& c, bool homogeneous) const;
+  /// The line of BoundarySpec::mean_pressure in @p c (after the other constraints).
+  void add_mean_pressure_constraint(dealii::AffineConstraints<double>& c, bool homogeneous) const;
   /// Residual (and matrix when @p matrix != nullptr) at @p state. With @p reaction_mode, only
   /// the volume terms, added without constraints (for the reaction forces).
   /// With @p schur_mass, also the pressure mass matrix weighted by 1/eta (the Schur

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "grainlift/continuum/mpi_session.h"
+#include "grainlift/continuum/solver.h"
 
 namespace grainlift::continuum::internal {
 
@@ -35,9 +36,10 @@ std::vector<double> padding_steps(double b, double pad) {
 
 }  // namespace
 
-IntruderMesh::IntruderMesh(double R, double W, double H, int refinement)
-    : R_(R), W_(W), H_(H) {
-  b_ = std::min(2 * R, 0.5 * (R + std::min(W, H)));
+IntruderMesh::IntruderMesh(double R, const std::array<double, 4>& box, int refinement)
+    : R_(R), box_(box) {
+  const double nearest = std::min({-box[0], box[1], -box[2], box[3]});
+  b_ = std::min(2 * R, 0.5 * (R + nearest));
   if (MpiSession::size() == 1) {  // (MPI may not even be initialised)
     tria_ = std::make_unique<Triangulation<2>>(
         Triangulation<2>::limit_level_difference_at_vertices);
@@ -60,19 +62,22 @@ IntruderMesh::IntruderMesh(double R, double W, double H, int refinement)
 }
 
 void IntruderMesh::make_coarse(Triangulation<2>& tria) const {
-  const double W = W_, H = H_;
   const double b = b_;
-  const auto steps_along = [b](double half) {
-    const std::vector<double> pad = padding_steps(b, half - b);
-    std::vector<double> steps(pad.rbegin(), pad.rend());
+  // cell sizes from the low edge to the high one: padding towards the block, the block's two
+  // cells, padding away from it
+  const auto steps_along = [b](double lo, double hi) {
+    const std::vector<double> pad_lo = padding_steps(b, -lo - b);
+    std::vector<double> steps(pad_lo.rbegin(), pad_lo.rend());
     steps.push_back(b);
     steps.push_back(b);
-    steps.insert(steps.end(), pad.begin(), pad.end());
+    const std::vector<double> pad_hi = padding_steps(b, hi - b);
+    steps.insert(steps.end(), pad_hi.begin(), pad_hi.end());
     return steps;
   };
   Triangulation<2> outer, outer_holed, block;
-  GridGenerator::subdivided_hyper_rectangle(outer, {steps_along(W), steps_along(H)},
-                                            Point2(-W, -H), Point2(W, H), false);
+  GridGenerator::subdivided_hyper_rectangle(
+      outer, {steps_along(box_[0], box_[1]), steps_along(box_[2], box_[3])},
+      Point2(box_[0], box_[2]), Point2(box_[1], box_[3]), false);
   std::set<Triangulation<2>::active_cell_iterator> central;
   for (const auto& cell : outer.active_cell_iterators())
     if (in_block(cell->center())) central.insert(cell);
@@ -94,9 +99,9 @@ void IntruderMesh::decorate(Triangulation<2>& tria) const {
       if (std::abs(face->vertex(0).norm() - R_) < tol && std::abs(face->vertex(1).norm() - R_) < tol) {
         face->set_boundary_id(kHole);
         face->set_manifold_id(0);
-      } else if (std::abs(c[0] + W_) < tol) face->set_boundary_id(kLeft);
-      else if (std::abs(c[0] - W_) < tol) face->set_boundary_id(kRight);
-      else if (std::abs(c[1] + H_) < tol) face->set_boundary_id(kBottom);
+      } else if (std::abs(c[0] - box_[0]) < tol) face->set_boundary_id(kLeft);
+      else if (std::abs(c[0] - box_[1]) < tol) face->set_boundary_id(kRight);
+      else if (std::abs(c[1] - box_[2]) < tol) face->set_boundary_id(kBottom);
       else face->set_boundary_id(kTop);
     }
   tria.set_manifold(0, PolarManifold<2>(Point2()));
@@ -106,3 +111,56 @@ void IntruderMesh::decorate(Triangulation<2>& tria) const {
 }
 
 }  // namespace grainlift::continuum::internal
+
+namespace grainlift::continuum {
+
+MeshOutline mesh_outline(const ContinuumConfig& config) {
+  using internal::IntruderMesh;
+  const double R = 0.5 * config.intruder_diameter;
+  IntruderMesh mesh(R, box_edges(config), config.refinement);
+  const dealii::Triangulation<2>& tria = mesh.tria();
+  MeshOutline o;
+  o.cells = static_cast<int>(tria.n_active_cells());
+  o.xmin = o.ymin = 1e300;
+  o.xmax = o.ymax = -1e300;
+  for (const auto& v : tria.get_vertices()) {
+    o.xmin = std::min(o.xmin, v[0]);
+    o.xmax = std::max(o.xmax, v[0]);
+    o.ymin = std::min(o.ymin, v[1]);
+    o.ymax = std::max(o.ymax, v[1]);
+  }
+  std::array<std::vector<double>, 4> at;  // x of the left/right faces, y of bottom/top
+  std::vector<double> left_y, right_y;
+  for (const auto& cell : tria.active_cell_iterators())
+    for (const auto& face : cell->face_iterators()) {
+      if (!face->at_boundary()) continue;
+      const auto id = face->boundary_id();
+      if (id == internal::kHole) {
+        for (unsigned int k = 0; k < 2; ++k)
+          o.hole_radius_error = std::max(o.hole_radius_error, std::abs(face->vertex(k).norm() - R));
+        continue;
+      }
+      for (unsigned int k = 0; k < 2; ++k) at[id].push_back(face->vertex(k)[id < 2 ? 0 : 1]);
+      if (id == internal::kLeft) left_y.push_back(face->center()[1]);
+      if (id == internal::kRight) right_y.push_back(face->center()[1]);
+    }
+  for (int e = 0; e < 4; ++e) {
+    double sum = 0;
+    for (const double x : at[e]) sum += x;
+    o.edge[e] = at[e].empty() ? 0.0 : sum / double(at[e].size());
+    for (const double x : at[e]) o.edge_spread = std::max(o.edge_spread, std::abs(x - o.edge[e]));
+  }
+  o.left_faces = static_cast<int>(left_y.size());
+  o.right_faces = static_cast<int>(right_y.size());
+  for (const double y : left_y) {
+    double best = 1e300;
+    for (const double yr : right_y) best = std::min(best, std::abs(yr - y));
+    if (best < 1e-3 * R) {
+      ++o.periodic_pairs;
+      o.periodic_mismatch = std::max(o.periodic_mismatch, best);
+    }
+  }
+  return o;
+}
+
+}  // namespace grainlift::continuum

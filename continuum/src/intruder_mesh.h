@@ -4,6 +4,7 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -14,12 +15,15 @@ namespace grainlift::continuum::internal {
 /// Boundary ids of IntruderMesh.
 constexpr dealii::types::boundary_id kLeft = 0, kRight = 1, kBottom = 2, kTop = 3, kHole = 4;
 
-/// Box [-W, W] x [-H, H] with a hole of radius R at the origin. A square block of half-size
-/// b = 2R around the hole (8 cells, polar manifold on the hole, transfinite interpolation inside)
-/// is merged into a tensor grid whose cells grow geometrically (ratio 1.4) away from the block.
-/// Boundary ids: 0 x = -W, 1 x = W, 2 y = -H, 3 y = H, 4 the hole (kLeft ... kHole). After
-/// @p refinement global refinements the block is refined once more (the mesh is finest at the
-/// intruder).
+/// Box [x0, x1] x [y0, y1] (x0, y0 < 0 < x1, y1: the intruder's centre at the origin) with a
+/// hole of radius R at the origin. A square block of half-size b = min(2R, (R + the nearest
+/// edge's distance) / 2) around the hole (8 cells, polar manifold on the hole, transfinite
+/// interpolation inside) is merged into a tensor grid whose cells grow geometrically (ratio 1.4)
+/// from the block to each edge, so the mesh is graded towards the intruder on every side
+/// however far each edge is. Boundary ids: 0 x = x0, 1 x = x1, 2 y = y0, 3 y = y1, 4 the hole
+/// (kLeft ... kHole). The left and right edges carry the same y nodes (one tensor grid), so
+/// they match as periodic faces. After @p refinement global refinements the block is refined
+/// once more (the mesh is finest at the intruder).
 ///
 /// One MPI rank: a serial Triangulation. Several: a parallel::distributed::Triangulation (p4est)
 /// made from the vertices and cells of the same coarse mesh; the ids and the manifolds are then
@@ -34,9 +38,10 @@ constexpr dealii::types::boundary_id kLeft = 0, kRight = 1, kBottom = 2, kTop = 
 /// p4est). Uniform meshes never have such a jump: the rule changes nothing there.
 class IntruderMesh {
  public:
-  /// @param R intruder radius (m); @param W, H half-width and half-height of the box (m);
-  /// @param refinement number of global refinements (then the block around the hole once more)
-  IntruderMesh(double R, double W, double H, int refinement);
+  /// @param R intruder radius (m); @param box {x0, x1, y0, y1}, the box's edges relative to
+  /// the intruder's centre (m); @param refinement number of global refinements (then the block
+  /// around the hole once more)
+  IntruderMesh(double R, const std::array<double, 4>& box, int refinement);
   dealii::Triangulation<2>& tria() { return *tria_; }
 
  private:
@@ -45,7 +50,9 @@ class IntruderMesh {
   /// Boundary and manifold ids, the polar and transfinite-interpolation manifolds.
   void decorate(dealii::Triangulation<2>& tria) const;
 
-  double R_, W_, H_, b_ = 0;
+  double R_;
+  std::array<double, 4> box_;  ///< x0, x1, y0, y1
+  double b_ = 0;
   std::unique_ptr<dealii::Triangulation<2>> tria_;
 };
 

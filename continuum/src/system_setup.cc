@@ -2,12 +2,19 @@
 // periodicity, no normal flux, Dirichlet values), sparsity patterns and matrices, and the
 // initial guess.
 #include <deal.II/base/function.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/dofs/dof_renumbering.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/block_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/numerics/vector_tools.h>
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <vector>
 
 #include "flow_problem.h"
 #include "quadrature_rheology.h"
@@ -57,6 +64,7 @@ void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneou
                                                VelocityPressure(f, {}), c,
                                                fe_.component_mask(kVelocity));
   }
+  if (setup_.bc.mean_pressure) add_mean_pressure_constraint(c, homogeneous);
   if (setup_.bc.pin_pressure) {
     const types::global_dof_index first_p = n_u_;  // the first pressure dof
     if (c.can_store_line(first_p) && !c.is_constrained(first_p)) {
@@ -65,6 +73,66 @@ void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneou
     }
   }
   c.close();
+}
+
+// The mean pressure on a boundary, sum_j w_j p_j = value * sum_j w_j with w_j the integral of
+// the pressure shape function j over the boundary, as one line of the constraints: the
+// pressure dof m of the largest weight is p_m = value * sum_j w_j / w_m - sum_{j != m} w_j /
+// w_m p_j. Weights of dofs that are themselves constrained (periodic ends, hanging nodes) go
+// to the dofs they are constrained to. The continuity equation of p_m's test function, which
+// the constraint replaces, is the one the others leave free (the net flux through a box with
+// no outflow is zero): the system stays square and regular.
+void FlowProblem::add_mean_pressure_constraint(AffineConstraints<double>& c,
+                                               bool homogeneous) const {
+  const MeanPressure& mp = *setup_.bc.mean_pressure;
+  if (n_ranks() > 1)
+    throw std::runtime_error("continuum: a mean-pressure condition (a periodic box with a wall "
+                             "on top) runs on one MPI rank only");
+  const QGauss<dim - 1> quadrature(fe_.degree + 1);
+  FEFaceValues<dim> fv(mapping_, fe_, quadrature, update_values | update_JxW_values);
+  std::vector<types::global_dof_index> dofs(fe_.n_dofs_per_cell());
+  std::map<types::global_dof_index, double> w;
+  for (const auto& cell : dof_handler_.active_cell_iterators())
+    for (const unsigned int f : cell->face_indices()) {
+      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != mp.id) continue;
+      fv.reinit(cell, f);
+      cell->get_dof_indices(dofs);
+      for (unsigned int i = 0; i < dofs.size(); ++i) {
+        if (fe_.system_to_component_index(i).first != dim) continue;
+        double s = 0;
+        for (unsigned int q = 0; q < quadrature.size(); ++q)
+          s += fv.shape_value_component(i, q, dim) * fv.JxW(q);
+        if (s != 0) w[dofs[i]] += s;
+      }
+    }
+  for (int pass = 0; pass < 8; ++pass) {  // chains: a periodic end that hangs, ...
+    std::map<types::global_dof_index, double> resolved;
+    bool moved = false;
+    for (const auto& [j, wj] : w) {
+      if (!c.is_constrained(j)) {
+        resolved[j] += wj;
+        continue;
+      }
+      moved = true;
+      for (const auto& [k, a] : *c.get_constraint_entries(j)) resolved[k] += wj * a;
+    }
+    w.swap(resolved);
+    if (!moved) break;
+  }
+  types::global_dof_index m = 0;
+  double wm = 0, total = 0;
+  for (const auto& [j, wj] : w) {
+    total += wj;
+    if (std::abs(wj) > std::abs(wm)) {
+      m = j;
+      wm = wj;
+    }
+  }
+  if (!(wm != 0)) throw std::logic_error("mean pressure: the boundary has no pressure dofs");
+  c.add_line(m);
+  for (const auto& [j, wj] : w)
+    if (j != m) c.add_entry(m, j, -wj / wm);
+  c.set_inhomogeneity(m, homogeneous ? 0.0 : mp.value * total / wm);
 }
 
 void FlowProblem::setup_system() {

@@ -291,4 +291,50 @@ InclineResult incline_layer(const InclineSpec& s) {
   return r;
 }
 
+LidBoxResult lid_box(const LidBoxSpec& s) {
+  Triangulation<dim> tria;
+  GridGenerator::subdivided_hyper_rectangle(
+      tria, {static_cast<unsigned int>(s.cells_x), static_cast<unsigned int>(s.cells_y)},
+      Point2(0, 0), Point2(s.width, s.height), true);  // ids: 0 left, 1 right, 2 bottom, 3 top
+  MuIRheology visc(s.rheology);
+  const double rho = s.bulk_density, g = s.gravity, H = s.height, U = s.lid_speed;
+  const double P = s.lid_pressure;
+  ProblemSetup setup;
+  setup.viscosity = &visc;
+  setup.bc.periodic_x.push_back({0, 1});
+  setup.bc.dirichlet[2] = [](const Point2&) { return Vec2(); };
+  setup.bc.dirichlet[3] = [U](const Point2&) { return Vec2({U, 0}); };
+  setup.bc.mean_pressure = internal::MeanPressure{3, P};
+  if (g > 0) setup.body_force = [=](const Point2&) { return Vec2({0, -rho * g}); };
+  // initial guess: the lid's pressure everywhere, the medium at rest (the solver must find
+  // the gradient and the profile)
+  setup.initial_pressure = [P](const Point2&) { return P; };
+  setup.nonlinear.relative_tolerance = 1e-10;
+  setup.nonlinear.max_iterations = 60;
+  setup.nonlinear.picard_iterations = 3;
+  FlowProblem problem(tria, setup);
+  problem.run();
+
+  LidBoxResult r;
+  r.converged = problem.report().converged;
+  internal::PointState st;
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 8; ++j) {
+      const Point2 x(s.width * i / 8.0, H * j / 8.0);
+      if (!problem.point_state(x, st)) continue;
+      const double p = P + rho * g * (H - x[1]);
+      r.max_pressure_error = std::max(r.max_pressure_error, std::abs(st.pressure - p) / P);
+      if (U != 0)
+        r.max_velocity_error =
+            std::max(r.max_velocity_error, (st.velocity - Vec2({U * x[1] / H, 0})).norm() / U);
+    }
+  const auto lid = problem.surface_integral(3, Point2());
+  r.lid_shear_stress = -lid.fx / s.width;
+  // the mean pressure on the lid, from the same surface integral's normal force
+  r.lid_mean_pressure = lid.fy / s.width;
+  const double I = (U / H) * s.rheology.grain_diameter / std::sqrt(P / s.rheology.solid_density);
+  r.shear_stress_exact = visc.friction(I) * P;
+  return r;
+}
+
 }  // namespace grainlift::continuum::verification

@@ -504,6 +504,21 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     r.diagnostics.counts["sleep_wakes"] = out.sleep_wakes;
     r.diagnostics.counts["sleep_wake_builds"] = out.sleep_wake_builds;
   }
+  {
+    // the travel the means come from, and whether the intruder had met its own wake by then
+    // (its front reaching bed it disturbed across the periodic boundary): the continuum's
+    // "periodic" far field stands for means after it, "open" for means before it
+    const double travel_end =
+        out.planned_steps > 0 ? c.dem.travel * double(out.steps) / double(out.planned_steps) : 0.0;
+    Diagnostics& diag = r.diagnostics;
+    diag.values["mean_travel_from"] = c.dem.steady_travel;
+    diag.values["mean_travel_to"] = travel_end;
+    const double wake = solver_box(c).wake_travel / c.grains.diameter;
+    if (std::isfinite(wake)) {
+      diag.values["wake_travel"] = wake;
+      diag.counts["crossed_own_wake"] = travel_end > wake ? 1 : 0;
+    }
+  }
   if (target > 0) {
     const RelativeErrors final_errors = relative_errors(c, out);
     const double travel = c.dem.travel * double(out.steps) / double(out.planned_steps);

@@ -209,7 +209,18 @@ std::vector<KeySpec> make_keys() {
   k.push_back(choice("continuum.inertia", "\"auto\"", {"auto", "on", "off"},
                      "rho (u.grad)u term: auto skips it when rho V^2 / P0 is negligible"));
   k.push_back(vec2("continuum.box_half_size", false, "from the domain", 0, 1e4, "m",
-                   "half width and half height of the FE box around the intruder"));
+                   "an FE box of its own, symmetric about the intruder (half width, half "
+                   "height; u = -V on its inflow sides, lithostatic traction downstream), "
+                   "instead of the DEM's domain: the run says the two boxes differ"));
+  k.push_back(choice("continuum.far_field", "\"auto\"", {"auto", "periodic", "open"},
+                     "the continuum's ends in x: periodic = the case's x period (the DEM's "
+                     "developed state after many crossings); open = inflow of undisturbed bed "
+                     "and a traction outflow at the ends of a box continuum.open_length long "
+                     "(the DEM's first crossing); auto = periodic when the case is periodic in "
+                     "x and dem.travel reaches the intruder's own wake, open otherwise"));
+  k.push_back(vec2("continuum.open_length", false, "[8.0, 8.0]", 1, 1e3, "D",
+                   "open far field: the FE box's length upstream and downstream of the "
+                   "intruder's centre, in intruder diameters"));
   k.push_back(integer("continuum.refinement", "2", 0, 7,
                       "global refinement level of the mesh (each level quarters the cells; "
                       "with the default barker_gray law the forces converge, see "

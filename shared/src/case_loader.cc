@@ -554,6 +554,8 @@ Case build_case(const toml::table& root) {
   cn.wall_friction = get_real(r, "continuum.wall_friction");
   cn.inertia = get_text(r, "continuum.inertia");
   cn.box_half_size = get_vec2(r, "continuum.box_half_size");
+  cn.far_field = get_text(r, "continuum.far_field");
+  cn.open_length = get_vec2(r, "continuum.open_length");
   cn.refinement = int(get_int(r, "continuum.refinement"));
   cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
   cn.nested = get_bool(r, "continuum.nested");

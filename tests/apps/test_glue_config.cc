@@ -11,6 +11,10 @@
 #include <vector>
 
 #include "grainlift/continuum/continuum_solver.h"
+#include "grainlift/continuum/solver.h"
+#include "grainlift/dem/packing.h"
+#include "grainlift/shared/case_geometry.h"
+#include "grainlift/shared/errors.h"
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/shared/case_keys.h"
 #include "grainlift/shared/case_loader.h"
@@ -145,7 +149,8 @@ TEST(KeyDefaults, LoaderFillsTheRegistryDefaults) {
 // moving along +x were rotated twice).
 TEST(ContinuumGlue, SurfaceAnglesAreMeasuredFromV) {
   namespace gc = grainlift::continuum;
-  const grainlift::Case along_x = minimal_case();
+  grainlift::Case along_x = minimal_case();
+  along_x.continuum.box_half_size = {0.4, 0.3};  // a box of its own: V along y is allowed there
   grainlift::Case along_y = along_x;
   along_y.intruder.velocity = {0.0, 0.25};
   const gc::ContinuumConfig fx = gc::make_continuum_config(along_x, "out");
@@ -154,4 +159,156 @@ TEST(ContinuumGlue, SurfaceAnglesAreMeasuredFromV) {
   EXPECT_EQ(fx.surface_theta, fy.surface_theta);
   const double pi = 3.14159265358979323846;
   EXPECT_NEAR(fx.surface_theta[0], pi / 64, 1e-15);  // theta_0 = (1/2) 2 pi / M, M = 64
+}
+
+// ---- One box for both solvers (docs/crosscheck.md, "One box"): the continuum meshes the
+// domain the DEM's grains fill. The DEM's walls are rows of frozen disks whose centres sit half
+// a grain inside the box edge (make_wall_disks): the medium ends at their inner edge. The FE
+// mesh's edges must be there (to rounding: both are computed from the same numbers), its
+// periodic x ends one case period apart with matching faces, and the intruder's hole where
+// the case puts the intruder.
+namespace {
+
+namespace gc = grainlift::continuum;
+
+grainlift::Case case_file(const std::string& relative, std::vector<std::string> overrides = {}) {
+  return grainlift::load_case(std::string(GRAINLIFT_SOURCE_DIR) + "/" + relative, overrides);
+}
+
+/// The DEM's wall surfaces in y: the inner edges of its bottom and top rows of frozen disks
+/// (NaN where there is no such row).
+std::array<double, 2> dem_wall_surfaces(const grainlift::Case& c) {
+  const grainlift::dem::DemConfig d = grainlift::dem::make_dem_config(c, 1);
+  const std::vector<grainlift::dem::Disk> walls = grainlift::dem::make_wall_disks(d);
+  double bottom = NAN, top = NAN;
+  for (const auto& w : walls) {
+    if (w.y < 0.5 * (d.ymin + d.ymax)) bottom = std::isnan(bottom) ? w.y + w.r : std::max(bottom, w.y + w.r);
+    else top = std::isnan(top) ? w.y - w.r : std::min(top, w.y - w.r);
+  }
+  return {bottom, top};
+}
+
+void expect_mesh_is_the_cases_box(const grainlift::Case& c, const char* what) {
+  SCOPED_TRACE(what);
+  const gc::ContinuumConfig f = gc::make_continuum_config(c, "out");
+  const gc::MeshOutline o = gc::mesh_outline(f);
+  const double xc = c.intruder.position[0], yc = c.intruder.position[1];
+  const double r = 0.5 * c.grains.diameter, R = 0.5 * c.intruder.diameter;
+  const double exact = 1e-12;  // both from the same case numbers: rounding only
+  // straight edges, the hole a circle of the intruder's radius about the case's position
+  EXPECT_LT(o.edge_spread, exact);
+  EXPECT_LT(o.hole_radius_error, 1e-9 * R);
+  EXPECT_NEAR(o.xmin, o.edge[0], exact);
+  EXPECT_NEAR(o.ymax, o.edge[3], exact);
+  const std::array<double, 2> dem = dem_wall_surfaces(c);
+  // bottom: the DEM's frozen wall's inner edge (within a grain radius is what the issue asks;
+  // here it is exact)
+  ASSERT_FALSE(std::isnan(dem[0]));
+  EXPECT_NEAR(yc + o.edge[2], dem[0], exact) << "a grain radius would be " << r;
+  // top: the lid's or the wall's inner edge, or the box top for a free surface
+  const grainlift::SolverBox b = grainlift::solver_box(c);
+  if (b.top == grainlift::BoxEdge::free_surface) {
+    EXPECT_TRUE(std::isnan(dem[1]));
+    EXPECT_NEAR(yc + o.edge[3], c.domain.y_range[1], exact);
+  } else {
+    EXPECT_NEAR(yc + o.edge[3], dem[1], exact);
+  }
+  // x: the case's period, its two ends made of matching faces
+  if (f.far_field == gc::FarField::periodic) {
+    EXPECT_NEAR(o.xmax - o.xmin, c.domain.x_range[1] - c.domain.x_range[0], exact);
+    EXPECT_GT(o.left_faces, 0);
+    EXPECT_EQ(o.left_faces, o.right_faces);
+    EXPECT_EQ(o.periodic_pairs, o.left_faces);
+    EXPECT_LT(o.periodic_mismatch, exact);
+  }
+  (void)xc;
+}
+
+}  // namespace
+
+TEST(ContinuumBox, MeshIsTheDemsDomainForACentredLidCase) {
+  // the demo: lid at 2000 Pa over walls of frozen disks, intruder centred, 40 d period
+  const grainlift::Case c = case_file("cases/demo/demo.toml");
+  EXPECT_EQ(grainlift::continuum_far_field(c), "periodic");  // 60 d of travel > 35 d to the wake
+  expect_mesh_is_the_cases_box(c, "demo");
+}
+
+TEST(ContinuumBox, MeshIsTheDemsDomainForTheOffCentreDepthSweep) {
+  // the depth sweep's box: 6 D of bed below the centre, about 2 D above under a lid of free
+  // disks; before, the FE box was symmetric about the intruder (a wall 1.5 D below it)
+  const grainlift::Case c = case_file("cases/guillard2014/depth_sweep.toml",
+                                      {"domain.y_range=[-0.09, 0.03]"});
+  const gc::ContinuumConfig f = gc::make_continuum_config(c, "out");
+  EXPECT_NEAR(f.box_bottom, -0.09 + 0.0015, 1e-15);
+  EXPECT_NEAR(f.box_top, 0.03 - 0.0015, 1e-15);
+  expect_mesh_is_the_cases_box(c, "depth sweep");
+  // and with the periodic far field (the sweep's 100 d stop before the wake at 110 d: open)
+  EXPECT_EQ(grainlift::continuum_far_field(c), "open");
+  expect_mesh_is_the_cases_box(
+      case_file("cases/guillard2014/depth_sweep.toml",
+                {"domain.y_range=[-0.09, 0.03]", "continuum.far_field=\"periodic\""}),
+      "depth sweep, periodic");
+}
+
+TEST(ContinuumBox, MeshIsTheDemsDomainForAFreeSurfaceCase) {
+  // Guillard's gradient case: a wall below, no lid, gravity: the top is the free surface
+  const grainlift::Case c =
+      case_file("cases/guillard2014/gradient.toml", {"continuum.far_field=\"periodic\""});
+  EXPECT_EQ(grainlift::solver_box(c).top, grainlift::BoxEdge::free_surface);
+  EXPECT_EQ(gc::make_continuum_config(c, "out").top, gc::TopEdge::free_surface);
+  expect_mesh_is_the_cases_box(c, "free surface");
+}
+
+// The open far field: the box runs continuum.open_length intruder diameters upstream and
+// downstream of the intruder, between the case's walls; the symmetric box of
+// continuum.box_half_size is named and kept as it was.
+TEST(ContinuumBox, OpenAndSymmetricBoxesAreWhereTheKeysSay) {
+  const grainlift::Case open = case_file(
+      "cases/demo/demo.toml", {"continuum.far_field=\"open\"", "continuum.open_length=[5.0, 7.0]"});
+  const gc::ContinuumConfig f = gc::make_continuum_config(open, "out");
+  EXPECT_EQ(f.far_field, gc::FarField::open);
+  EXPECT_NEAR(f.box_right, 0.5, 1e-15);   // V along +x: the medium comes from +x, 5 D
+  EXPECT_NEAR(f.box_left, -0.7, 1e-15);   // 7 D downstream
+  EXPECT_NEAR(f.box_bottom, -0.22, 1e-15);
+  const gc::MeshOutline o = gc::mesh_outline(f);
+  EXPECT_NEAR(o.xmin, -0.7, 1e-12);
+  EXPECT_NEAR(o.xmax, 0.5, 1e-12);
+  const grainlift::Case sym =
+      case_file("cases/demo/demo.toml", {"continuum.box_half_size=[0.3, 0.2]"});
+  const gc::ContinuumConfig g = gc::make_continuum_config(sym, "out");
+  EXPECT_EQ(g.far_field, gc::FarField::symmetric_box);
+  const gc::MeshOutline os = gc::mesh_outline(g);
+  EXPECT_NEAR(os.xmin, -0.3, 1e-12);
+  EXPECT_NEAR(os.ymax, 0.2, 1e-12);
+  // a periodic far field on a case that is not periodic in x is refused, naming the key
+  try {
+    gc::make_continuum_config(case_file("cases/demo/demo.toml",
+                                        {"domain.periodic=[false, false]",
+                                         "continuum.far_field=\"periodic\""}),
+                              "out");
+    ADD_FAILURE() << "no error";
+  } catch (const grainlift::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("continuum.far_field"), std::string::npos) << e.what();
+  }
+}
+
+// The open far field stands for the DEM's first crossing in a box long enough not to matter:
+// lengthening it by half (8 D -> 12 D upstream and downstream) moves the demo's drag, lift and
+// torque by less than 1% (refinement 1: the length's effect, not the mesh's, is compared on
+// meshes of the same grading).
+TEST(ContinuumBox, OpenFarFieldForcesDoNotDependOnTheBoxLength) {
+  const auto solve = [](const char* length) {
+    const grainlift::Case c = case_file(
+        "cases/demo/demo.toml", {"continuum.far_field=\"open\"", std::string("continuum.open_length=") + length,
+                                 "continuum.refinement=1", "output.fields=false"});
+    const gc::ContinuumOutput out = gc::solve_flow(gc::make_continuum_config(c, "out"));
+    EXPECT_TRUE(out.converged) << out.message;
+    return out;
+  };
+  const gc::ContinuumOutput a = solve("[8.0, 8.0]"), b = solve("[12.0, 12.0]");
+  std::printf("open far field, 8 D / 12 D: drag %.6g / %.6g, lift %.6g / %.6g, torque %.6g / %.6g\n",
+              a.fx, b.fx, a.fy, b.fy, a.torque, b.torque);
+  EXPECT_NEAR(a.fx / b.fx, 1.0, 0.01);
+  EXPECT_NEAR(a.fy / b.fy, 1.0, 0.01);
+  EXPECT_NEAR(a.torque / b.torque, 1.0, 0.01);
 }

@@ -76,3 +76,42 @@ TEST(MuIFlow, InclineBagnoldProfile) {
   EXPECT_TRUE(r.converged);
   EXPECT_LT(r.max_relative_error, 0.01);
 }
+
+// ---- The lid of the periodic box (the cylinder problem's far field with a wall on top): a
+// rigid lid whose load per length is P_lid times its length, imposed as the mean pressure on it
+// (BoundarySpec::mean_pressure), over a wall at rest, periodic in x, no intruder.
+
+// At rest under gravity the medium is hydrostatic: p = P_lid + rho g (H - y) everywhere (a
+// linear pressure, exact in the Q1 space: to the solver tolerance), starting from a uniform P_lid.
+TEST(LidBox, LidAtRestGivesTheHydrostaticPressure) {
+  LidBoxSpec s;
+  s.lid_pressure = 100;  // Pa: the weight of the layer is 1500 * 9.81 * 0.02 = 294 Pa, 2.9 P_lid
+  s.gravity = 9.81;
+  s.rheology.grain_diameter = 1.5e-3;
+  s.rheology.solid_density = 2500;
+  const LidBoxResult r = lid_box(s);
+  ASSERT_TRUE(r.converged);
+  EXPECT_LT(r.max_pressure_error, 1e-8);
+  EXPECT_NEAR(r.lid_mean_pressure, 100, 1e-6);  // the lid's load per length / its length
+}
+
+// A lid sliding at U over the wall shears the layer uniformly: u = U y / H, p = P_lid and
+// tau = mu(I) P_lid with I = (U/H) d / sqrt(P_lid / rho_s) (Jop et al. 2006's law; GDR MiDi's
+// plane shear). A linear profile and a constant pressure are exact in Q2-Q1: to 1e-6.
+TEST(LidBox, SlidingLidGivesTheMuISimpleShear) {
+  LidBoxSpec s;
+  s.lid_pressure = 100;
+  s.rheology.grain_diameter = 1.5e-3;
+  s.rheology.solid_density = 2500;
+  // I = 0.1: U = I H sqrt(P / rho_s) / d
+  s.lid_speed = 0.1 * s.height * std::sqrt(100.0 / 2500.0) / 1.5e-3;
+  const LidBoxResult r = lid_box(s);
+  ASSERT_TRUE(r.converged);
+  std::printf("lid box shear: tau %.9g Pa, mu(I) P %.9g Pa, velocity error %.2e, p error %.2e\n",
+              r.lid_shear_stress, r.shear_stress_exact, r.max_velocity_error,
+              r.max_pressure_error);
+  EXPECT_LT(r.max_velocity_error, 1e-6);
+  EXPECT_LT(r.max_pressure_error, 1e-6);
+  EXPECT_NEAR(r.lid_shear_stress / r.shear_stress_exact, 1.0, 1e-6);
+  EXPECT_NEAR(r.lid_mean_pressure, 100, 1e-4);
+}

@@ -15,6 +15,22 @@ enum class Regularisation {
   barker_gray       ///< partial regularisation of Barker & Gray (JFM 2017) for low I
 };
 enum class WallCondition { no_slip, coulomb };
+/// The ends of the FE box and how its edges meet the far field.
+enum class FarField {
+  /// [-half_width, half_width] x [-half_height, half_height] about the intruder: u = -V on
+  /// every side the medium enters or slides along, the lithostatic traction where it leaves
+  symmetric_box,
+  /// the box's x ends identified (period box_right - box_left); bottom and top by their edges
+  periodic,
+  /// u = -V where the medium enters at an x end, the lithostatic traction where it leaves;
+  /// bottom and top by their edges
+  open
+};
+/// The top edge of a periodic or open box: a wall, lid or far-field edge (u = -V; in a
+/// periodic box with a wall below, the pressure level is set by the mean pressure on it, the
+/// lithostatic pressure there), or a free surface (the lithostatic traction: zero where P0 is
+/// the weight of the bed above the intruder).
+enum class TopEdge { wall, free_surface };
 enum class InertiaMode { off, on, automatic };
 /// direct: MUMPS (Trilinos Amesos) on the whole saddle-point matrix. amg: FGMRES with a block upper-triangular
 /// preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
@@ -58,6 +74,11 @@ struct ContinuumConfig {
   double intruder_diameter = 0.1;   ///< m
   double half_width = 1.0;          ///< m, box is [-half_width, half_width] x [-half_height, half_height]
   double half_height = 1.0;         ///< m
+  FarField far_field = FarField::symmetric_box;
+  /// periodic and open boxes: the edges relative to the intruder's centre (m), box_left < -R,
+  /// box_right > R, box_bottom < -R, box_top > R; the bottom is a wall (u = -V)
+  double box_left = -1, box_right = 1, box_bottom = -1, box_top = 1;
+  TopEdge top = TopEdge::wall;
   // ---- kinematics (lab frame)
   std::array<double, 2> intruder_velocity{1, 0};  ///< m/s; far field moves at -V in the intruder frame
   double intruder_omega = 0;                      ///< rad/s, counter-clockwise positive
@@ -113,6 +134,14 @@ struct ContinuumConfig {
   /// it had. Empty: not called (no post-processing of the intermediate meshes).
   std::function<void(const ContinuumOutput&)> level_converged;
 };
+
+/// The FE box's edges {x0, x1, y0, y1} relative to the intruder's centre (m): the symmetric
+/// box's half sizes, or box_left ... box_top.
+inline std::array<double, 4> box_edges(const ContinuumConfig& c) {
+  if (c.far_field == FarField::symmetric_box)
+    return {-c.half_width, c.half_width, -c.half_height, c.half_height};
+  return {c.box_left, c.box_right, c.box_bottom, c.box_top};
+}
 
 /// One level of the nested iteration (ContinuumConfig::nested): its mesh, forces and work.
 struct LevelResult {

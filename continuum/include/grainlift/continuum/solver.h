@@ -1,6 +1,7 @@
 // Entry point of the continuum (finite-element) engine. deal.II-free.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 
@@ -25,6 +26,24 @@ namespace grainlift::continuum {
 ///         (MpiSession::all_ranks_failed).
 ContinuumOutput solve_flow(const ContinuumConfig& config,
                            const std::function<void(const std::string&)>& log = {});
+
+/// The mesh solve_flow() makes for a configuration, without solving: where its edges are
+/// (m, relative to the intruder's centre) and whether its x ends match as periodic faces.
+struct MeshOutline {
+  double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  ///< bounding box of the vertices
+  /// each edge's position from its boundary faces: x of the left and right faces, y of the
+  /// bottom and top faces (the mean over the faces; their spread in edge_spread)
+  std::array<double, 4> edge{};
+  double edge_spread = 0;      ///< largest deviation of a boundary face from its edge's position
+  int left_faces = 0, right_faces = 0;
+  /// left faces with a right face at the same y one period (xmax - xmin) away, and the largest
+  /// y mismatch of those pairs (m)
+  int periodic_pairs = 0;
+  double periodic_mismatch = 0;
+  double hole_radius_error = 0;  ///< largest |r - R| of the hole's vertices (m)
+  int cells = 0;
+};
+MeshOutline mesh_outline(const ContinuumConfig& config);
 
 /// @brief Check a configuration without solving. @throws ConfigError naming the bad field.
 void validate_config(const ContinuumConfig& config);

@@ -81,4 +81,31 @@ struct InclineResult {
 };
 InclineResult incline_layer(const InclineSpec& spec);
 
+/// A box with no intruder as the cylinder problem's periodic far field makes it: periodic in
+/// x, a wall at rest below (no slip), a rigid lid above moving along x at @p lid_speed whose
+/// load per length is @p lid_pressure times its length (the mean pressure on it,
+/// BoundarySpec::mean_pressure), gravity @p gravity downwards. The exact state is a simple
+/// shear under the hydrostatic pressure: p = P_lid + rho g (H - y) and, with g = 0, u = U y / H
+/// with tau / p = mu(I), I = (U / H) d / sqrt(P_lid / rho_s).
+struct LidBoxSpec {
+  double width = 0.04, height = 0.02;  ///< m
+  double lid_pressure = 100;           ///< Pa
+  double lid_speed = 0;                ///< m/s
+  double gravity = 0;                  ///< m/s^2, |g| (pointing down)
+  double bulk_density = 1500;          ///< kg/m^3
+  int cells_x = 8, cells_y = 8;
+  RheologyParams rheology;
+};
+struct LidBoxResult {
+  bool converged = false;
+  /// max |p_h - p| / P_lid at the nodes of a 9 x 9 grid
+  double max_pressure_error = 0;
+  /// max |u_h - U y / H| / U on that grid (0 when the lid rests)
+  double max_velocity_error = 0;
+  double lid_mean_pressure = 0;        ///< Pa, the mean pressure over the lid
+  double lid_shear_stress = 0;         ///< Pa, -x force of the medium on the lid per length
+  double shear_stress_exact = 0;       ///< Pa, mu(I) P_lid (g = 0)
+};
+LidBoxResult lid_box(const LidBoxSpec& spec);
+
 }  // namespace grainlift::continuum::verification

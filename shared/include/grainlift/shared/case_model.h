@@ -96,7 +96,9 @@ struct ContinuumSection {
   std::string wall;
   double wall_friction{};     ///< default: intruder.friction
   std::string inertia;
-  Vec2 box_half_size{};     ///< m; 0 = from the domain
+  Vec2 box_half_size{};     ///< m; 0 = the case's domain (solver_box)
+  std::string far_field;    ///< "auto" | "periodic" | "open" (continuum_far_field resolves auto)
+  Vec2 open_length{};       ///< D upstream, downstream of the intruder's centre (open far field)
   int refinement{};
   int adaptive_cycles{};
   bool nested{};                ///< nested iteration from refinement 0

@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""The tables of the cross-check on one box (scripts/study_one_box.sh): for each scene, FEM / DEM
+for drag, lift, torque and L/D with the difference in units of the combined error (the DEM's
+block standard error, the FEM's mesh-error estimate), and the rms difference of sigma_n(theta)
+and sigma_t(theta) over P0; the same for the continuum's former box (continuum.box_half_size).
+Every number comes from `grainlift compare --json` on the run folders.
+
+    python3 scripts/one_box_tables.py build/bin/grainlift runs/one_box
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+# The depth sweep's DEM beyond h = 8 D: pooled over three beds (one at h = 2 D), forces over
+# 20-60 d of travel, from docs/results-guillard2014.md's pooled table ("The depth sweep":
+# scripts/study_depth.sh d6 + d6beds, scripts/plot_depth_study.py --window 20 60, 858bc40):
+# name: (drag, drag error, lift, lift error) in N/m.
+DEPTH_DEM_POOLED = {
+    "free_surface_h2": (0.02849, 0.00095, 0.01377, 0.0018),
+    "heavy_lid_h4": (0.07801, 0.0015, 0.02856, 0.0014),
+    "heavy_lid_h6": (0.1187, 0.0020, 0.03312, 0.0022),
+    "heavy_lid_h8": (0.1634, 0.0022, 0.04026, 0.0020),
+    "heavy_lid_h12": (0.2363, 0.0040, 0.04616, 0.0037),
+    "lid_only_h4": (0.07601, 0.0011, 0.001968, 0.00095),
+    "lid_only_h6": (0.1144, 0.0024, -0.0001709, 0.0026),
+    "lid_only_h8": (0.1477, 0.0021, 0.00465, 0.0025),
+    "lid_only_h12": (0.2196, 0.0026, 0.01561, 0.0032),
+}
+
+
+def compare(grainlift, a, b):
+    out = subprocess.run([grainlift, "compare", a, b, "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def summary(folder, solver):
+    path = os.path.join(folder, "summary.json")
+    with open(path) as f:
+        return json.load(f)[solver]
+
+
+def z(a, ea, b, eb):
+    e = math.hypot(ea or 0.0, eb or 0.0)
+    return (b - a) / e if e > 0 else float("nan")
+
+
+def ratio_cell(a, ea, b, eb):
+    if a == 0:
+        return "-"
+    return f"{b / a:.2f} ({z(a, ea, b, eb):+.1f})"
+
+
+def ld(drag, edrag, lift, elift):
+    r = lift / drag
+    e = abs(r) * math.hypot((edrag or 0) / drag, (elift or 0) / lift) if lift != 0 else (elift or 0) / drag
+    return r, e
+
+
+def row(grainlift, dem_dir, fem_dir, label):
+    dem_h5 = os.path.join(dem_dir, "dem.h5")
+    fem_h5 = os.path.join(fem_dir, "fem.h5")
+    if not (os.path.exists(dem_h5) and os.path.exists(fem_h5)):
+        return None
+    c = compare(grainlift, dem_h5, fem_h5)
+    cells = [label]
+    for q in ("drag", "lift", "torque"):
+        a, b = c[f"{q}_a"], c[f"{q}_b"]
+        ea, eb = c.get(f"{q}_err_a"), c.get(f"{q}_err_b")
+        cells.append(f"{a:.4g} +- {ea or 0:.2g}")
+        cells.append(f"{b:.4g}")
+        cells.append(ratio_cell(a, ea, b, eb))
+    la, ela = ld(c["drag_a"], c.get("drag_err_a"), c["lift_a"], c.get("lift_err_a"))
+    lb, elb = ld(c["drag_b"], c.get("drag_err_b"), c["lift_b"], c.get("lift_err_b"))
+    cells.append(f"{la:+.3f} +- {ela:.3f}")
+    cells.append(f"{lb:+.3f} ({z(la, ela, lb, elb):+.1f})")
+    cells.append(f"{c['sigma_n_l2']:.3f}")
+    cells.append(f"{c['sigma_t_l2']:.3f}")
+    return "| " + " | ".join(cells) + " |"
+
+
+HEADER = ("| scene | DEM drag | FEM drag | FEM/DEM (z) | DEM lift | FEM lift | FEM/DEM (z) | "
+          "DEM torque | FEM torque | FEM/DEM (z) | DEM L/D | FEM L/D (z) | rms sigma_n / P0 | "
+          "rms sigma_t / P0 |\n" + "|---" * 14 + "|")
+
+SCENES = [
+    ("demo_o0", "demo, Omega 0"), ("demo_o05", "demo, Omega 0.5"), ("demo_o1", "demo, Omega 1"),
+    ("demo_o2", "demo, Omega 2"), ("demo_o4", "demo, Omega 4"), ("demo_o8", "demo, Omega 8"),
+    ("big_o0", "16 D x 9.6 D, Omega 0"), ("big_o2", "16 D x 9.6 D, Omega 2"),
+    ("big_o4", "16 D x 9.6 D, Omega 4"),
+    ("heavy_lid_h8", "depth sweep, h = 8 D"), ("lid_only_h8", "depth sweep, h = 8 D, no gradient"),
+]
+VARIANTS = [("fem", "the DEM's box (far field auto)"), ("fem_open", "open far field"),
+            ("fem_periodic", "periodic far field"), ("fem_noslip", "no-slip intruder"),
+            ("fem_old", "the former box (box_half_size)")]
+
+
+def main():
+    grainlift, root = sys.argv[1], sys.argv[2]
+    for variant, title in VARIANTS:
+        rows = []
+        for name, label in SCENES:
+            r = row(grainlift, os.path.join(root, name, "dem"), os.path.join(root, name, variant), label)
+            if r:
+                rows.append(r)
+        if rows:
+            print(f"\n### FEM: {title} ({variant})\n")
+            print(HEADER)
+            print("\n".join(rows))
+    # the depth sweep: lift in buoyancies and C_d, FEM against the DEM's pooled beds
+    print("\n### Depth sweep: FEM (the DEM's box, far field auto) against the DEM pooled over beds\n")
+    print("| scene | P0 (Pa) | DEM L/B | FEM L/B | FEM/DEM lift (z) | DEM C_d | FEM C_d | "
+          "FEM/DEM drag (z) | FEM far field | FEM former box: L/B, C_d |")
+    print("|---" * 10 + "|")
+    for name, (dd, edd, dl, edl) in DEPTH_DEM_POOLED.items():
+        fem_dir = os.path.join(root, name, "fem")
+        if not os.path.exists(os.path.join(fem_dir, "summary.json")):
+            continue
+        s = summary(fem_dir, "fem")
+        buoy = s.get("buoyancy")
+        cd_scale = s["drag"] / s["drag_coefficient"] if s.get("drag_coefficient") else None
+        c = compare(grainlift, os.path.join(fem_dir, "fem.h5"), os.path.join(fem_dir, "fem.h5"))
+        mesh_d, mesh_l = c.get("drag_err_a") or 0.0, c.get("lift_err_a") or 0.0
+        old = os.path.join(root, name, "fem_old", "summary.json")
+        old_cell = "-"
+        if os.path.exists(old):
+            so = summary(os.path.dirname(old), "fem")
+            old_cell = f"{so.get('lift_over_buoyancy', float('nan')):.2f}, {so.get('drag_coefficient', float('nan')):.2f}"
+        lb = s.get("lift_over_buoyancy", float("nan"))
+        far = "?"
+        try:
+            import h5py  # noqa: F401  (python3-h5py, installed by scripts/install-deps)
+            with h5py.File(os.path.join(fem_dir, "fem.h5"), "r") as h:
+                far = h["diagnostics"].attrs.get("far_field", b"?")
+                far = far.decode() if isinstance(far, bytes) else str(far)
+        except Exception:
+            pass
+        print(f"| {name} | {s['pressure_scale']:.4g} | {dl / buoy:.2f} +- {edl / buoy:.2f} | {lb:.2f} | "
+              f"{ratio_cell(dl, edl, s['lift'], mesh_l)} | {dd / cd_scale:.2f} +- {edd / cd_scale:.2f} | "
+              f"{s['drag_coefficient']:.2f} | {ratio_cell(dd, edd, s['drag'], mesh_d)} | {far} | {old_cell} |")
+
+
+if __name__ == "__main__":
+    main()
