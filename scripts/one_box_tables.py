@@ -93,12 +93,53 @@ SCENES = [
     ("heavy_lid_h8", "depth sweep, h = 8 D"), ("lid_only_h8", "depth sweep, h = 8 D, no gradient"),
 ]
 VARIANTS = [("fem", "the DEM's box (far field auto)"), ("fem_open", "open far field"),
-            ("fem_periodic", "periodic far field"), ("fem_noslip", "no-slip intruder"),
+            ("fem_periodic", "periodic far field"),
+            ("fem_settled", "top edge where the DEM's lid settled (continuum.bed_top)"), ("fem_noslip", "no-slip intruder"),
             ("fem_old", "the former box (box_half_size)")]
+
+
+def wake_windows(root):
+    """The DEM's means before and after the intruder meets its own wake (its /diagnostics
+    wake_travel), from the force samples, with plot_depth_study.py's window_mean (blocks of 4 d
+    of travel): the two states the continuum's open and periodic far fields stand for."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import h5py
+    from plot_depth_study import travel_series, window_mean
+    print("\n### The DEM before and after its own wake (first crossing: open; after: periodic)\n")
+    print("| scene | window (d) | drag | lift | torque | FEM open: drag, lift, torque | "
+          "FEM periodic: drag, lift, torque |")
+    print("|---" * 7 + "|")
+    for name, label in SCENES:
+        path = os.path.join(root, name, "dem", "dem.h5")
+        if not os.path.exists(path):
+            continue
+        with h5py.File(path, "r") as f:
+            d = f["diagnostics"].attrs
+            if "wake_travel" not in d:
+                continue
+            wake, lo, hi = float(d["wake_travel"]), float(d["mean_travel_from"]), float(d["mean_travel_to"])
+            travel, drag, lift = travel_series(f)
+            torque = f["forces/torque"][:]
+        fem = {}
+        for v in ("fem_open", "fem_periodic", "fem"):
+            sp = os.path.join(root, name, v, "summary.json")
+            if os.path.exists(sp):
+                fem[v] = summary(os.path.dirname(sp), "fem")
+        periodic = fem.get("fem_periodic") or (fem.get("fem") if name.startswith("demo") else None)
+        open_ = fem.get("fem_open") or (fem.get("fem") if not name.startswith("demo") else None)
+        cell = lambda s: f"{s['drag']:.4g}, {s['lift']:.4g}, {s['torque']:.4g}" if s else "-"
+        for a, b in ((lo, min(wake, hi)), (max(wake, lo), hi)):
+            if b - a < 8:
+                continue
+            m = [window_mean(travel, x, a, b) for x in (drag, lift, torque)]
+            print(f"| {label} | {a:.0f}-{b:.0f} | {m[0][0]:.4g} +- {m[0][1]:.2g} | "
+                  f"{m[1][0]:.4g} +- {m[1][1]:.2g} | {m[2][0]:.4g} +- {m[2][1]:.2g} | "
+                  f"{cell(open_) if b <= wake else '-'} | {cell(periodic) if a >= wake else '-'} |")
 
 
 def main():
     grainlift, root = sys.argv[1], sys.argv[2]
+    wake_windows(root)
     for variant, title in VARIANTS:
         rows = []
         for name, label in SCENES:

@@ -79,6 +79,18 @@ if [[ $PART == fem || $PART == all ]]; then
       big_*|heavy_lid_h8)
         run_one "$O/$name/fem_periodic" fem "$case" "$args --set continuum.far_field=periodic" ;;
     esac
+    # the top edge where the DEM's lid settled: its disks' mean height over the averaged travel,
+    # less a grain radius (the FE box's top is otherwise the lid's starting edge)
+    if [[ $name == *_h8 && -f "$O/$name/dem/dem.h5" ]]; then
+      top=$("$PY" -c "
+import h5py, sys
+with h5py.File(sys.argv[1], 'r') as f:
+    t, y = f['lid/time'][:], f['lid/y'][:]
+    g = f['geometry'].attrs
+    start = f['diagnostics'].attrs['mean_travel_from'] * g['grain_diameter'] / g['velocity_x']
+    print('%.6g' % (y[t >= start].mean() - 0.5 * g['grain_diameter']))" "$O/$name/dem/dem.h5")
+      run_one "$O/$name/fem_settled" fem "$case" "$args --set continuum.bed_top=$top"
+    fi
   done
 fi
 

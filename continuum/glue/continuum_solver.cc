@@ -78,6 +78,15 @@ void set_box(const Case& c, ContinuumConfig& f) {
   f.box_bottom = b.ymin - p[1];
   f.box_top = b.ymax - p[1];
   f.top = b.top == BoxEdge::free_surface ? TopEdge::free_surface : TopEdge::wall;
+  if (!std::isnan(c.continuum.bed_top)) {
+    // the DEM's settled bed: below the top wall's edge (a lid that sank), never above the box
+    if (!(c.continuum.bed_top <= c.domain.y_range[1] && c.continuum.bed_top > b.ymin))
+      throw InputError(fmt::format(
+          "{}: continuum.bed_top = {} m must lie in ({}, {}] m, between the bottom wall's edge "
+          "and the top of the box",
+          c.source.path, c.continuum.bed_top, b.ymin, c.domain.y_range[1]));
+    f.box_top = c.continuum.bed_top - p[1];
+  }
   if (mode == "periodic") {
     if (b.left != BoxEdge::periodic)
       throw InputError(fmt::format(
@@ -121,9 +130,12 @@ std::string box_statement(const Case& c, const ContinuumConfig& f) {
         "fill [{:.4g}, {:.4g}] x [{:.4g}, {:.4g}] m",
         p[0] - f.half_width, p[0] + f.half_width, p[1] - f.half_height, p[1] + f.half_height,
         b.xmin, b.xmax, b.ymin, b.ymax);
-  const std::string edges =
-      fmt::format("bottom {} at y = {:.4g} m, top {} at y = {:.4g} m", box_edge_name(b.bottom),
-                  b.ymin, box_edge_name(b.top), b.ymax);
+  const double top = p[1] + f.box_top;
+  const std::string edges = fmt::format(
+      "bottom {} at y = {:.4g} m, top {} at y = {:.4g} m{}", box_edge_name(b.bottom), b.ymin,
+      box_edge_name(b.top), top,
+      top != b.ymax ? fmt::format(" (continuum.bed_top; the box's edge is at {:.4g} m)", b.ymax)
+                    : std::string());
   if (f.far_field == FarField::periodic)
     return fmt::format("FE box = the DEM's: periodic in x with period {:.4g} m ({:.3g} D), {}",
                        b.xmax - b.xmin, (b.xmax - b.xmin) / D, edges);

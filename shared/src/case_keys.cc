@@ -212,6 +212,10 @@ std::vector<KeySpec> make_keys() {
                    "an FE box of its own, symmetric about the intruder (half width, half "
                    "height; u = -V on its inflow sides, lithostatic traction downstream), "
                    "instead of the DEM's domain: the run says the two boxes differ"));
+  k.push_back(real("continuum.bed_top", false, "the domain's", -1e4, 1e4, false, false, "m",
+                   "y of the FE box's top edge: where the DEM's bed settled under its lid or "
+                   "free surface (dem.h5 /lid/y less a grain radius), if not at the top wall's "
+                   "inner edge (or the box's top for a free surface)"));
   k.push_back(choice("continuum.far_field", "\"auto\"", {"auto", "periodic", "open"},
                      "the continuum's ends in x: periodic = the case's x period (the DEM's "
                      "developed state after many crossings); open = inflow of undisturbed bed "

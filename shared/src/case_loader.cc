@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <limits>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -252,7 +253,8 @@ void apply_override(toml::table& root, const std::string& arg, Diagnostics& diag
 /// The case's table with every absent key filled from the key registry, the only place a
 /// default is written: a literal default as parsed TOML, a default that names another key
 /// (intruder.friction: "grains.friction") as that key's value. Required keys and
-/// continuum.box_half_size ("from the domain", read as [0, 0]) stay absent.
+/// the keys whose default is a sentence (continuum.box_half_size "from the domain", read as
+/// [0, 0]; continuum.bed_top "the domain's", read as NaN) stay absent.
 toml::table with_defaults(const toml::table& root) {
   toml::table full = root;
   const auto split = [](const std::string& path) {
@@ -554,6 +556,8 @@ Case build_case(const toml::table& root) {
   cn.wall_friction = get_real(r, "continuum.wall_friction");
   cn.inertia = get_text(r, "continuum.inertia");
   cn.box_half_size = get_vec2(r, "continuum.box_half_size");
+  cn.bed_top = r.at_path("continuum.bed_top") ? get_real(r, "continuum.bed_top")
+                                               : std::numeric_limits<double>::quiet_NaN();
   cn.far_field = get_text(r, "continuum.far_field");
   cn.open_length = get_vec2(r, "continuum.open_length");
   cn.refinement = int(get_int(r, "continuum.refinement"));

@@ -97,6 +97,7 @@ struct ContinuumSection {
   double wall_friction{};     ///< default: intruder.friction
   std::string inertia;
   Vec2 box_half_size{};     ///< m; 0 = the case's domain (solver_box)
+  double bed_top{};         ///< m, the FE box's top edge; NaN = the domain's (solver_box)
   std::string far_field;    ///< "auto" | "periodic" | "open" (continuum_far_field resolves auto)
   Vec2 open_length{};       ///< D upstream, downstream of the intruder's centre (open far field)
   int refinement{};
