@@ -91,6 +91,7 @@ SCENES = [
     ("big_o0", "16 D x 9.6 D, Omega 0"), ("big_o2", "16 D x 9.6 D, Omega 2"),
     ("big_o4", "16 D x 9.6 D, Omega 4"),
     ("heavy_lid_h8", "depth sweep, h = 8 D"), ("lid_only_h8", "depth sweep, h = 8 D, no gradient"),
+    ("gradient", "Guillard gradient, h = 4 D"),
 ]
 VARIANTS = [("fem", "the DEM's box (far field auto)"), ("fem_open", "open far field"),
             ("fem_periodic", "periodic far field"),
@@ -137,9 +138,35 @@ def wake_windows(root):
                   f"{cell(open_) if b <= wake else '-'} | {cell(periodic) if a >= wake else '-'} |")
 
 
+def omega_table(root):
+    """The demo's spin sweep: the DEM's drag, lift and L/D against the FEM's on the shared box
+    (periodic, the case's Coulomb wall, and no slip) and with the open far field."""
+    print("\n### The demo against Omega\n")
+    print("| Omega | DEM drag | DEM lift | DEM L/D | FEM Coulomb: drag, lift, L/D | "
+          "FEM no-slip: drag, lift, L/D | FEM open (Coulomb): drag, lift, L/D |")
+    print("|---" * 7 + "|")
+    for tag, omega in (("0", 0), ("05", 0.5), ("1", 1), ("2", 2), ("4", 4), ("8", 8)):
+        d = os.path.join(root, f"demo_o{tag}")
+        if not os.path.exists(os.path.join(d, "dem", "summary.json")):
+            continue
+        s = summary(os.path.join(d, "dem"), "dem")
+        r, e = ld(s["drag"], s["drag_stderr"], s["lift"], s["lift_stderr"])
+        cells = [f"{omega:g}", f"{s['drag']:.0f} +- {s['drag_stderr']:.0f}",
+                 f"{s['lift']:+.0f} +- {s['lift_stderr']:.0f}", f"{r:+.2f} +- {e:.2f}"]
+        for v in ("fem", "fem_noslip", "fem_open"):
+            p = os.path.join(d, v)
+            if os.path.exists(os.path.join(p, "summary.json")):
+                f = summary(p, "fem")
+                cells.append(f"{f['drag']:.0f}, {f['lift']:+.0f}, {f['lift'] / f['drag']:+.2f}")
+            else:
+                cells.append("-")
+        print("| " + " | ".join(cells) + " |")
+
+
 def main():
     grainlift, root = sys.argv[1], sys.argv[2]
     wake_windows(root)
+    omega_table(root)
     for variant, title in VARIANTS:
         rows = []
         for name, label in SCENES:

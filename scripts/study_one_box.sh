@@ -4,9 +4,9 @@
 # with the continuum's former box (continuum.box_half_size, symmetric about the intruder) beside
 # it so that the part of the old disagreement that was the box can be read off.
 #   scripts/study_one_box.sh [dem|fem|tables|all] [OUT_DIR]   (default all, runs/one_box)
-# dem: 11 DEM runs, two at a time, one thread each (~15 min on 2 cores): the demo at six spin
+# dem: 12 DEM runs, two at a time, one thread each (~15 min on 2 cores): the demo at six spin
 #   ratios, the 16 D x 9.6 D box at Omega 0, 2, 4, the depth sweep's h = 8 D with and without
-#   the gradient. fem: ~40 solves (~10 min). tables: python3 scripts/one_box_tables.py OUT_DIR.
+#   the gradient, Guillard's gradient case. fem: ~40 solves (~10 min). tables: python3 scripts/one_box_tables.py OUT_DIR.
 # A run whose result exists is skipped (delete its folder to rerun).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,15 +33,18 @@ scenes() {
     echo "heavy_lid_h$h $DEPTH $D6 --set scene.depth=$(awk -v h=$h 'BEGIN{printf "%.6g", h*0.015}')"
     echo "lid_only_h$h $DEPTH $D6 --set 'scene.depth_mode=\"lid_only\"' --set scene.depth=$(awk -v h=$h 'BEGIN{printf "%.6g", h*0.015}')"
   done
+  # Guillard's gradient case (free surface 4 D above, a wall 4 D below), its calibrated law, ref 3
+  echo "gradient cases/guillard2014/gradient.toml --set 'continuum.rheology_file=\"rheology.toml\"' --set continuum.refinement=3"
   echo "free_surface_h2 $DEPTH $D6 --set 'scene.depth_mode=\"free_surface\"' --set 'domain.walls=[\"bottom\"]' --set scene.depth=0.03"
 }
 # the scenes the DEM runs (the rest of the depth sweep's DEM is docs/results-guillard2014.md's)
-dem_scenes() { scenes | grep -E '^(demo_|big_|heavy_lid_h8 |lid_only_h8 )'; }
+dem_scenes() { scenes | grep -E '^(demo_|big_|heavy_lid_h8 |lid_only_h8 |gradient )'; }
 # the former box of each scene: half sizes from the nearer end and wall of domain.x/y_range
 old_box() {
   case $1 in
     demo_*) echo "--set continuum.box_half_size=[0.4,0.24]" ;;
     big_*) echo "--set continuum.box_half_size=[0.8,0.48]" ;;
+    gradient) echo "--set continuum.box_half_size=[0.09,0.06]" ;;
     *) echo "--set continuum.box_half_size=[0.09,0.03]" ;;
   esac
 }
@@ -58,18 +61,20 @@ run_one() {  # run_one DIR SOLVER CASE ARGS...
 }
 
 if [[ $PART == dem || $PART == all ]]; then
-  dem_scenes | while read -r name case args; do
-    run_one "$O/$name/dem" dem "$case" "$args" &
-    # two at a time
-    while [[ $(jobs -r | wc -l) -ge 2 ]]; do sleep 2; done
-  done
-  wait
+  dem_scenes | {
+    while read -r name case args; do
+      run_one "$O/$name/dem" dem "$case" "$args" &
+      # two at a time
+      while [[ $(jobs -r | wc -l) -ge 2 ]]; do sleep 2; done
+    done
+    wait
+  }
 fi
 
 if [[ $PART == fem || $PART == all ]]; then
   scenes | while read -r name case args; do
     run_one "$O/$name/fem" fem "$case" "$args"                                  # the DEM's box, far field auto
-    case $name in demo_o0|demo_o2|big_*|heavy_lid_h8|lid_only_h8)
+    case $name in demo_o0|demo_o2|big_*|heavy_lid_h8|lid_only_h8|gradient)
       run_one "$O/$name/fem_old" fem "$case" "$args $(old_box "$name")" ;;      # the former box
     esac
     case $name in
