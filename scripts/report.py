@@ -228,6 +228,22 @@ def solver_rows(runs):
         return with_se(ff.get("mean"), ff.get("mean_stderr")) + " Pa"
 
     rows.append(("far-field pressure (/far_field)", cell(far)))
+    def box(r):
+        # the FE's box against the DEM's (docs/continuum-model.md, "The box"); the DEM's
+        # averaging window and whether its intruder had met its own wake by then
+        d = r["diag"]
+        if "box" in d:
+            return str(d["box"])
+        if "mean_travel_from" in d:
+            window = f"means over {fmt(d['mean_travel_from'])}-{fmt(d['mean_travel_to'])} d of travel"
+            if "wake_travel" in d:
+                crossed = "after" if int(d.get("crossed_own_wake", 0)) else "before"
+                window += (f"; the intruder meets its own wake at {fmt(d['wake_travel'])} d: "
+                           f"the run ends {crossed} it")
+            return window
+        return "–"
+
+    rows.append(("box, far field", cell(box)))
     rows.append(("converged", cell(lambda r: ("yes" if int(r["diag"]["converged"]) else "no")
                                    if "converged" in r["diag"] else "–")))
     rows.append(("mesh: cells, dofs", cell(

@@ -19,6 +19,16 @@ using internal::ProblemSetup;
 using internal::Vec2;
 using Grad = Tensor<2, dim>;
 
+namespace {
+/// The layer problems' solver settings: to 1e-10 of the initial residual, three Picard steps
+/// first (their initial guesses are far from the solution).
+void use_tight_nonlinear_settings(ProblemSetup& setup) {
+  setup.nonlinear.relative_tolerance = 1e-10;
+  setup.nonlinear.max_iterations = 60;
+  setup.nonlinear.picard_iterations = 3;
+}
+}  // namespace
+
 CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double omega,
                                         int refinement, LinearSolver solver) {
   Triangulation<dim> tria;
@@ -270,9 +280,7 @@ InclineResult incline_layer(const InclineSpec& s) {
     return Vec2({0.5 * us * (1 - e * e), 0});
   };
   setup.initial_pressure = [=](const Point2& x) { return Ptop + G * (h - x[1]); };
-  setup.nonlinear.relative_tolerance = 1e-10;
-  setup.nonlinear.max_iterations = 60;
-  setup.nonlinear.picard_iterations = 3;
+  use_tight_nonlinear_settings(setup);
   FlowProblem problem(tria, setup);
   problem.run();
 
@@ -309,9 +317,7 @@ LidBoxResult lid_box(const LidBoxSpec& s) {
   // initial guess: the lid's pressure everywhere, the medium at rest (the solver must find
   // the gradient and the profile)
   setup.initial_pressure = [P](const Point2&) { return P; };
-  setup.nonlinear.relative_tolerance = 1e-10;
-  setup.nonlinear.max_iterations = 60;
-  setup.nonlinear.picard_iterations = 3;
+  use_tight_nonlinear_settings(setup);
   FlowProblem problem(tria, setup);
   problem.run();
 
