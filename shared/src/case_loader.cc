@@ -343,6 +343,20 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   if (std::hypot(in.velocity[0], in.velocity[1]) == 0)
     diag.error(where("intruder.velocity"),
                "intruder.velocity must not be zero (drag and lift are defined along V)");
+  // the continuum's box (solver_box, docs/continuum-model.md "The box")
+  const auto& cn = c.continuum;
+  if (cn.far_field == "periodic" && (!d.periodic[0] || d.wall_left || d.wall_right))
+    diag.error(where("continuum.far_field"),
+               "continuum.far_field = \"periodic\" needs a box periodic in x "
+               "(domain.periodic[0] = true, no left or right wall); use \"open\" or \"auto\"");
+  if (!std::isnan(cn.bed_top)) {
+    const double bottom = d.y_range[0] + (d.wall_bottom ? c.grains.diameter : 0.0);
+    if (!(cn.bed_top > in.position[1] + R && cn.bed_top <= d.y_range[1] && cn.bed_top > bottom))
+      diag.error(where("continuum.bed_top"),
+                 fmt::format("continuum.bed_top = {} m must lie above the intruder's top ({} m) "
+                             "and at most at the top of the box ({} m)",
+                             cn.bed_top, in.position[1] + R, d.y_range[1]));
+  }
   if (c.dem.steady_travel >= c.dem.travel)
     diag.error(where("dem.steady_travel"),
                fmt::format("dem.steady_travel = {} must be less than dem.travel = {}",

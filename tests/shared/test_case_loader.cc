@@ -168,6 +168,14 @@ TEST(CaseLoader, CrossChecksGeometryAndRun) {
   e = error_of(base, {"domain.lid_pressure=-1.0"});
   EXPECT_TRUE(contains(e, "'domain.lid_pressure' = -1 is out of range (accepted: [0, 1e+09] Pa)"))
       << e;
+  // the continuum's box: a periodic far field needs a periodic x; its top edge (where the DEM's
+  // bed settled) must lie between the intruder's top and the top of the box
+  e = error_of(base, {"domain.periodic=[false, false]", "continuum.far_field=\"periodic\""});
+  EXPECT_TRUE(contains(e, "continuum.far_field = \"periodic\" needs a box periodic in x")) << e;
+  e = error_of(base, {"continuum.bed_top=0.5"});
+  EXPECT_TRUE(contains(e, "continuum.bed_top = 0.5 m must lie above the intruder's top")) << e;
+  EXPECT_EQ(grainlift::parse_case(base, "case.toml", {"continuum.bed_top=0.3"}).continuum.bed_top, 0.3);
+  EXPECT_TRUE(std::isnan(grainlift::parse_case(base, "case.toml", {}).continuum.bed_top));
 }
 
 // Physics: none; a lid pressure on a case with the top wall is accepted and read in Pa, and it
