@@ -63,6 +63,26 @@ TEST(EndToEnd, DemRunWritesEveryDemBlockAndSummary) {
   EXPECT_NEAR(r.means->drag, -fx / double(n), 1e-9 * std::abs(r.means->drag));
   EXPECT_TRUE(fs::exists(d / "run" / "summary.json"));
   EXPECT_TRUE(fs::exists(d / "run" / "dem_fields.xmf"));
+  // the travel the means come from, and the intruder's own wake: in a periodic box 20 d long
+  // the intruder (5 d) meets the bed it disturbed after 20 - 5 = 15 d; 10 d stop before it
+  EXPECT_EQ(r.diagnostics.values.at("mean_travel_from"), 2.0);
+  EXPECT_NEAR(r.diagnostics.values.at("mean_travel_to"), 10.0, 1e-9);
+  EXPECT_NEAR(r.diagnostics.values.at("wake_travel"), 15.0, 1e-9);
+  EXPECT_EQ(r.diagnostics.counts.at("crossed_own_wake"), 0);
+}
+
+// A run that goes past its wake says so (the continuum's periodic far field stands for it).
+TEST(EndToEnd, DemRunPastItsWakeSaysSo) {
+  const fs::path d = scratch();
+  std::ofstream(d / "tiny.toml") << tiny_case;
+  std::string out;
+  ASSERT_EQ(run("run " + (d / "tiny.toml").string() + " --solver dem --quiet --set dem.travel=16.0"
+                " --set output.fields=false --out " + (d / "past").string(), &out),
+            0)
+      << out;
+  const RunResult r = read_result((d / "past" / "dem.h5").string());
+  EXPECT_NEAR(r.diagnostics.values.at("mean_travel_to"), 16.0, 1e-9);
+  EXPECT_EQ(r.diagnostics.counts.at("crossed_own_wake"), 1);
 }
 
 // The DEM's per-angle standard errors of sigma_n (/surface/sigma_n_stderr, from the profiles of
