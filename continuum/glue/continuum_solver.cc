@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "grainlift/continuum/errors.h"
-#include "grainlift/continuum/mpi_session.h"
 #include "grainlift/continuum/solver.h"
 #include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/case_geometry.h"
@@ -97,12 +96,6 @@ void set_box(const Case& c, ContinuumConfig& f) {
     f.far_field = FarField::periodic;
     f.box_left = -0.5 * (b.xmax - b.xmin);
     f.box_right = 0.5 * (b.xmax - b.xmin);
-    if (f.top == TopEdge::wall && MpiSession::size() > 1)
-      throw InputError(fmt::format(
-          "{}: continuum.far_field = \"periodic\" under a top wall or lid fixes the pressure "
-          "level by one constraint over the whole lid, which runs on one MPI rank only: run "
-          "without mpirun, or set continuum.far_field = \"open\"",
-          c.source.path));
   } else {
     f.far_field = FarField::open;
     const double up = c.continuum.open_length[0] * D, down = c.continuum.open_length[1] * D;

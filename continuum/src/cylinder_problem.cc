@@ -113,7 +113,8 @@ void CylinderProblem::say(const std::string& s) const {
 
 /// The box with the intruder's hole, finest at the intruder (see IntruderMesh).
 void CylinderProblem::make_mesh(int refinement) {
-  mesh_ = std::make_unique<IntruderMesh>(R_, box_edges(config_), refinement);
+  mesh_ = std::make_unique<IntruderMesh>(R_, box_edges(config_), refinement,
+                                         config_.far_field == FarField::periodic);
 }
 
 ProblemSetup CylinderProblem::make_setup(const Vec2& g_used) const {

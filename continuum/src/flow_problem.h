@@ -60,7 +60,7 @@ struct FrictionWall {
 
 /// The pressure level of a problem with no traction boundary: the mean pressure over the
 /// boundary @p id equals @p value (Pa). One linear constraint on the pressure dofs of that
-/// boundary (FlowProblem::make_constraints); one MPI rank only.
+/// boundary (FlowProblem::make_constraints), on any number of MPI ranks.
 struct MeanPressure {
   dealii::types::boundary_id id = 0;
   double value = 0;
@@ -235,6 +235,8 @@ class FlowProblem {
   // dofs numbered velocity first (n_u_ of them), then pressure: two blocks
   dealii::types::global_dof_index n_u_ = 0;
   std::vector<dealii::IndexSet> owned_, relevant_;  ///< per block
+  /// the dofs of BoundarySpec::mean_pressure's line (empty without it), set by make_constraints
+  mutable dealii::IndexSet mean_pressure_rows_;
   MatrixType system_matrix_;
   VectorType solution_;
   // ---- direct solver: MUMPS on the whole matrix (the blocks copied into it)

@@ -3,6 +3,7 @@
 
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/manifold_lib.h>
 
 #include <algorithm>
@@ -36,7 +37,8 @@ std::vector<double> padding_steps(double b, double pad) {
 
 }  // namespace
 
-IntruderMesh::IntruderMesh(double R, const std::array<double, 4>& box, int refinement)
+IntruderMesh::IntruderMesh(double R, const std::array<double, 4>& box, int refinement,
+                           bool periodic_x)
     : R_(R), box_(box) {
   const double nearest = std::min({-box[0], box[1], -box[2], box[3]});
   b_ = std::min(2 * R, 0.5 * (R + nearest));
@@ -55,6 +57,13 @@ IntruderMesh::IntruderMesh(double R, const std::array<double, 4>& box, int refin
     tria_->create_triangulation(coarse.get_vertices(), cells, SubCellData());
   }
   decorate(*tria_);
+  if (periodic_x && MpiSession::size() > 1) {
+    // p4est must know the periodic faces before refining (the serial mesh, refined alike on
+    // both ends, needs nothing: its periodicity is a constraint of the dofs only)
+    std::vector<GridTools::PeriodicFacePair<Triangulation<2>::cell_iterator>> pairs;
+    GridTools::collect_periodic_faces(*tria_, kLeft, kRight, 0, pairs);
+    tria_->add_periodicity(pairs);
+  }
   tria_->refine_global(refinement);
   for (const auto& cell : tria_->active_cell_iterators())
     if (cell->is_locally_owned() && in_block(cell->center())) cell->set_refine_flag();

@@ -41,7 +41,10 @@ class IntruderMesh {
   /// @param R intruder radius (m); @param box {x0, x1, y0, y1}, the box's edges relative to
   /// the intruder's centre (m); @param refinement number of global refinements (then the block
   /// around the hole once more)
-  IntruderMesh(double R, const std::array<double, 4>& box, int refinement);
+  /// @param periodic_x the left and right edges are identified (a distributed mesh is told
+  /// before it is refined, so that p4est balances across them)
+  IntruderMesh(double R, const std::array<double, 4>& box, int refinement,
+               bool periodic_x = false);
   dealii::Triangulation<2>& tria() { return *tria_; }
 
  private:

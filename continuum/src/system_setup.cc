@@ -2,6 +2,7 @@
 // periodicity, no normal flux, Dirichlet values), sparsity patterns and matrices, and the
 // initial guess.
 #include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/dofs/dof_renumbering.h>
@@ -81,18 +82,20 @@ void FlowProblem::make_constraints(AffineConstraints<double>& c, bool homogeneou
 // w_m p_j. Weights of dofs that are themselves constrained (periodic ends, hanging nodes) go
 // to the dofs they are constrained to. The continuity equation of p_m's test function, which
 // the constraint replaces, is the one the others leave free (the net flux through a box with
-// no outflow is zero): the system stays square and regular.
+// no outflow is zero): the system stays square and regular. Distributed: each rank weighs the
+// faces of its own cells (their dofs' constraints are among its relevant ones), the weights
+// are gathered on every rank and summed in rank order (every rank gets the same line), and
+// the ranks to which p_m is relevant store it; the rows the line adds to (every dof of the
+// boundary) are then writable there (mean_pressure_rows_, setup_system()).
 void FlowProblem::add_mean_pressure_constraint(AffineConstraints<double>& c,
                                                bool homogeneous) const {
   const MeanPressure& mp = *setup_.bc.mean_pressure;
-  if (n_ranks() > 1)
-    throw std::runtime_error("continuum: a mean-pressure condition (a periodic box with a wall "
-                             "on top) runs on one MPI rank only");
   const QGauss<dim - 1> quadrature(fe_.degree + 1);
   FEFaceValues<dim> fv(mapping_, fe_, quadrature, update_values | update_JxW_values);
   std::vector<types::global_dof_index> dofs(fe_.n_dofs_per_cell());
-  std::map<types::global_dof_index, double> w;
-  for (const auto& cell : dof_handler_.active_cell_iterators())
+  std::map<types::global_dof_index, double> own;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
     for (const unsigned int f : cell->face_indices()) {
       if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != mp.id) continue;
       fv.reinit(cell, f);
@@ -102,13 +105,14 @@ void FlowProblem::add_mean_pressure_constraint(AffineConstraints<double>& c,
         double s = 0;
         for (unsigned int q = 0; q < quadrature.size(); ++q)
           s += fv.shape_value_component(i, q, dim) * fv.JxW(q);
-        if (s != 0) w[dofs[i]] += s;
+        if (s != 0) own[dofs[i]] += s;
       }
     }
+  }
   for (int pass = 0; pass < 8; ++pass) {  // chains: a periodic end that hangs, ...
     std::map<types::global_dof_index, double> resolved;
     bool moved = false;
-    for (const auto& [j, wj] : w) {
+    for (const auto& [j, wj] : own) {
       if (!c.is_constrained(j)) {
         resolved[j] += wj;
         continue;
@@ -116,9 +120,14 @@ void FlowProblem::add_mean_pressure_constraint(AffineConstraints<double>& c,
       moved = true;
       for (const auto& [k, a] : *c.get_constraint_entries(j)) resolved[k] += wj * a;
     }
-    w.swap(resolved);
+    own.swap(resolved);
     if (!moved) break;
   }
+  std::map<types::global_dof_index, double> w;
+  const auto gathered = Utilities::MPI::all_gather(
+      comm_, std::vector<std::pair<types::global_dof_index, double>>(own.begin(), own.end()));
+  for (const auto& part : gathered)
+    for (const auto& [j, wj] : part) w[j] += wj;
   types::global_dof_index m = 0;
   double wm = 0, total = 0;
   for (const auto& [j, wj] : w) {
@@ -129,6 +138,10 @@ void FlowProblem::add_mean_pressure_constraint(AffineConstraints<double>& c,
     }
   }
   if (!(wm != 0)) throw std::logic_error("mean pressure: the boundary has no pressure dofs");
+  mean_pressure_rows_ = IndexSet(dof_handler_.n_dofs());
+  for (const auto& [j, wj] : w) mean_pressure_rows_.add_index(j);
+  mean_pressure_rows_.compress();
+  if (!c.can_store_line(m)) return;
   c.add_line(m);
   for (const auto& [j, wj] : w)
     if (j != m) c.add_entry(m, j, -wj / wm);
@@ -151,15 +164,22 @@ void FlowProblem::setup_system() {
   const IndexSet relevant = DoFTools::extract_locally_relevant_dofs(dof_handler_);
   owned_ = {owned.get_view(0, n_u_), owned.get_view(n_u_, n)};
   relevant_ = {relevant.get_view(0, n_u_), relevant.get_view(n_u_, n)};
+  mean_pressure_rows_ = IndexSet(n);
   make_constraints(nonzero_constraints_, false);
   make_constraints(zero_constraints_, true);
-  TrilinosWrappers::BlockSparsityPattern sp(owned_, owned_, relevant_, comm_);
+  // rows this rank writes: its relevant ones, and the mean-pressure line's (its condensation
+  // adds to every dof of that boundary)
+  IndexSet writable = relevant;
+  writable.add_indices(mean_pressure_rows_);
+  const std::vector<IndexSet> writable_blocks = {writable.get_view(0, n_u_),
+                                                 writable.get_view(n_u_, n)};
+  TrilinosWrappers::BlockSparsityPattern sp(owned_, owned_, writable_blocks, comm_);
   DoFTools::make_sparsity_pattern(dof_handler_, sp, zero_constraints_, false);
   sp.compress();
   system_matrix_.reinit(sp);
   if (!iterative) {
     // MUMPS (through Amesos) takes one matrix: the blocks are copied into it for each solve
-    TrilinosWrappers::SparsityPattern full(owned, owned, relevant, comm_);
+    TrilinosWrappers::SparsityPattern full(owned, owned, writable, comm_);
     DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
     full.compress();
     direct_matrix_.reinit(full);

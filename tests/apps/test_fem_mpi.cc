@@ -53,7 +53,7 @@ density = 20.0
 area_fraction = 0.8
 [continuum]
 ambient_pressure = 1000.0
-far_field = "open"             # the periodic far field under a top edge runs on one rank only
+far_field = "open"             # (the periodic far field: its own test)
 refinement = 1
 linear_solver = "amg"
 [output]
@@ -205,6 +205,18 @@ TEST(FemMpi, DirectSolverOnTwoRanksGivesTheOneRankSolution) {
 TEST(FemMpi, CoulombWallOnTwoRanksGivesTheOneRankSolution) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   expect_two_ranks_match_one("coulomb", " --set continuum.wall='\"coulomb\"'");
+}
+
+// The periodic far field under a top edge: the pressure level is one constraint over the whole
+// top (the mean pressure on it), gathered from both ranks' faces, and p4est is told the
+// periodic faces: the one-rank solution (direct solver; and with an adaptive cycle, which
+// refines across the periodic ends alike on one and two ranks).
+TEST(FemMpi, PeriodicBoxUnderALidOnTwoRanksGivesTheOneRankSolution) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  expect_two_ranks_match_one("periodic", " --set continuum.far_field='\"periodic\"'");
+  expect_two_ranks_match_one("periodic_adaptive", " --set continuum.far_field='\"periodic\"'"
+                                                  " --set continuum.refinement=0"
+                                                  " --set continuum.adaptive_cycles=1");
 }
 
 TEST(FemMpi, LinearisedGravityOnTwoRanksGivesTheOneRankSolution) {
