@@ -4,11 +4,16 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 #include "grainlift/shared/errors.h"
 
 #ifndef GRAINLIFT_SCRIPT_DIR
 #error "GRAINLIFT_SCRIPT_DIR (absolute path of scripts/) is set by apps/CMakeLists.txt"
+#endif
+#ifndef GRAINLIFT_INSTALLED_SCRIPT_DIR
+#define GRAINLIFT_INSTALLED_SCRIPT_DIR "../share/grainlift"
 #endif
 #ifndef GRAINLIFT_PYTHON
 #define GRAINLIFT_PYTHON "/usr/bin/python3"
@@ -29,6 +34,15 @@ std::string shell_quoted(const std::string& s) {
 }  // namespace
 
 std::string script_path(const std::string& script) {
+  // an installed grainlift (cmake --install) runs its scripts from PREFIX/share/grainlift,
+  // beside its bin/; one in the build tree, where there is no such folder, from the sources
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed =
+        (exe.parent_path() / GRAINLIFT_INSTALLED_SCRIPT_DIR / script).lexically_normal();
+    if (std::filesystem::is_regular_file(installed, ec)) return installed.string();
+  }
   return std::string(GRAINLIFT_SCRIPT_DIR) + "/" + script;
 }
 
