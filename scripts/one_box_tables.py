@@ -197,14 +197,10 @@ def main():
             so = summary(os.path.dirname(old), "fem")
             old_cell = f"{so.get('lift_over_buoyancy', float('nan')):.2f}, {so.get('drag_coefficient', float('nan')):.2f}"
         lb = s.get("lift_over_buoyancy", float("nan"))
-        far = "?"
-        try:
-            import h5py  # noqa: F401  (python3-h5py, installed by scripts/install-deps)
-            with h5py.File(os.path.join(fem_dir, "fem.h5"), "r") as h:
-                far = h["diagnostics"].attrs.get("far_field", b"?")
-                far = far.decode() if isinstance(far, bytes) else str(far)
-        except Exception:
-            pass
+        import h5py  # python3-h5py, installed by scripts/install-deps
+        with h5py.File(os.path.join(fem_dir, "fem.h5"), "r") as h:
+            far = h["diagnostics"].attrs["far_field"]
+            far = far.decode() if isinstance(far, bytes) else str(far)
         print(f"| {name} | {s['pressure_scale']:.4g} | {dl / buoy:.2f} +- {edl / buoy:.2f} | {lb:.2f} | "
               f"{ratio_cell(dl, edl, s['lift'], mesh_l)} | {dd / cd_scale:.2f} +- {edd / cd_scale:.2f} | "
               f"{s['drag_coefficient']:.2f} | {ratio_cell(dd, edd, s['drag'], mesh_d)} | {far} | {old_cell} |")
