@@ -129,15 +129,28 @@ std::string box_statement(const Case& c, const ContinuumConfig& f) {
       box_edge_name(b.top), top,
       top != b.ymax ? fmt::format(" (continuum.bed_top; the box's edge is at {:.4g} m)", b.ymax)
                     : std::string());
+  // the DEM's run against its wake: which far field stands for its means
+  const double wake_d = b.wake_travel / c.grains.diameter;
+  const bool past_wake = c.dem.travel > wake_d;
   if (f.far_field == FarField::periodic)
-    return fmt::format("FE box = the DEM's: periodic in x with period {:.4g} m ({:.3g} D), {}",
-                       b.xmax - b.xmin, (b.xmax - b.xmin) / D, edges);
+    return fmt::format(
+        "FE box = the DEM's: periodic in x with period {:.4g} m ({:.3g} D), {}{}",
+        b.xmax - b.xmin, (b.xmax - b.xmin) / D, edges,
+        past_wake ? std::string()
+                  : fmt::format("; note: the DEM's {:g} d of travel stop before its wake at "
+                                "{:.4g} d (its first crossing: continuum.far_field = \"open\")",
+                                c.dem.travel, wake_d));
   std::string dem_x =
-      b.left == BoxEdge::periodic
-          ? fmt::format("the DEM's x is periodic ({:.3g} D): this is its first crossing, "
+      b.left != BoxEdge::periodic
+          ? fmt::format("the DEM's box spans x in [{:.4g}, {:.4g}] m", b.xmin, b.xmax)
+      : past_wake
+          ? fmt::format("note: the DEM's x is periodic ({:.3g} D) and its {:g} d of travel go "
+                        "past its wake at {:.4g} d (its developed state: continuum.far_field "
+                        "= \"periodic\")",
+                        (b.xmax - b.xmin) / D, c.dem.travel, wake_d)
+          : fmt::format("the DEM's x is periodic ({:.3g} D): this is its first crossing, "
                         "before the intruder meets its own wake after {:.4g} d of travel",
-                        (b.xmax - b.xmin) / D, b.wake_travel / c.grains.diameter)
-          : fmt::format("the DEM's box spans x in [{:.4g}, {:.4g}] m", b.xmin, b.xmax);
+                        (b.xmax - b.xmin) / D, wake_d);
   return fmt::format("FE box: the DEM's walls ({}), open in x: {:.3g} D upstream and {:.3g} D "
                      "downstream of the intruder (continuum.open_length); {}",
                      edges, c.continuum.open_length[0], c.continuum.open_length[1], dem_x);
