@@ -86,10 +86,8 @@ void add_surface_stderr(const Case& c, const DemOutput& out, double heading,
   s.sigma_t_stderr = std::move(se_t);
 }
 
-}  // namespace
-
-RunResult dem_result(const Case& c, const DemOutput& out) {
-  RunResult r;
+/// /forces, and from the averaged samples /means (block averages) and /surface, /histogram.
+void add_forces_means_and_surface(const Case& c, const DemOutput& out, RunResult& r) {
   const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
   const double heading = std::atan2(vy, vx);
 
@@ -150,7 +148,10 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
     r.histogram = hist.result();
     add_surface_stderr(c, out, heading, *r.surface);
   }
+}
 
+/// /fields: the accumulated grid (velocity and temperature NaN where no grain ever was).
+void add_fields(const Case& c, const DemOutput& out, RunResult& r) {
   if (out.fields.nx > 0 && out.fields.snapshots > 0) {
     const auto& a = out.fields;
     FieldGrid g;
@@ -176,7 +177,10 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
     g.pressure = std::move(p);
     r.fields = std::move(g);
   }
+}
 
+/// /lid: the lid's series and its mean pressure after the steady start.
+void add_lid(const Case& c, const DemOutput& out, RunResult& r) {
   if (!out.lid.empty()) {
     LidSeries l;
     std::vector<double> steady;
@@ -192,7 +196,10 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
     steady_mean(steady, c.output.blocks, l.mean, l.mean_stderr);
     r.lid = std::move(l);
   }
+}
 
+/// /far_field: the stress the bed carries away from the intruder, and its steady mean.
+void add_far_field(const Case& c, const DemOutput& out, RunResult& r) {
   if (!out.far_field.empty()) {
     FarFieldSeries ff;
     std::vector<double> steady;
@@ -210,7 +217,10 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
     steady_mean(steady, c.output.blocks, ff.mean, ff.mean_stderr);
     r.far_field = std::move(ff);
   }
+}
 
+/// /bed: the prepared bed's fingerprint.
+void add_bed(const DemOutput& out, RunResult& r) {
   if (!out.bed.gap_fraction.empty()) {
     const BedFingerprint& f = out.bed;
     BedStructure b;
@@ -228,7 +238,10 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
     b.ring_area_fraction = f.ring_area_fraction;
     r.bed = std::move(b);
   }
+}
 
+/// /geometry (with the pressure scale), the notes and /diagnostics.
+void add_geometry_notes_and_diagnostics(const Case& c, const DemOutput& out, RunResult& r) {
   r.geometry = case_geometry(c);
   Geometry& q = r.geometry;
   // Pressure scale: the lid pressure plus the lithostatic pressure at the intruder (either may
@@ -278,6 +291,18 @@ RunResult dem_result(const Case& c, const DemOutput& out) {
         r.lid->y.empty() ? 0.0 : r.lid->y.front(), r.lid->y.empty() ? 0.0 : r.lid->y.back(),
         r.lid->mass, r.lid->damping);
   }
+}
+
+}  // namespace
+
+RunResult dem_result(const Case& c, const DemOutput& out) {
+  RunResult r;
+  add_forces_means_and_surface(c, out, r);
+  add_fields(c, out, r);
+  add_lid(c, out, r);
+  add_far_field(c, out, r);
+  add_bed(out, r);
+  add_geometry_notes_and_diagnostics(c, out, r);
   return r;
 }
 
