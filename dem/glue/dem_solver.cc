@@ -433,63 +433,12 @@ RunCheckpoint read_checkpoint(const Case& c, const RunOptions& opt) {
   return ck;
 }
 
-/// One run of the case on the bed of @p cfg (its seed). @p target: the relative error that
-/// ends it (0: off); @p progress: the reporter, or nullptr for a silent replica; @p tag: the
-/// progress line's prefix of the error. @p opt: checkpoints in opt->out_dir, and resume from
-/// there when opt->resume (nullptr: neither, a replica). Every run stops at the next event
-/// when the process is interrupted (interrupt.h); its result is then marked partial.
-RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressReporter* progress,
-                  const std::string& tag, const RunOptions* opt = nullptr) {
-  // The current errors on the progress line; with a target, the run ends once both are at or
-  // below it.
-  const RunMonitor monitor = [&](const DemOutput& so_far, double fraction) {
-    const RelativeErrors e = relative_errors(c, so_far);
-    std::string status = fmt::format("{}error drag {} lift {}", tag, percent(e.drag), percent(e.lift));
-    if (target > 0) status += fmt::format(" (target {})", percent(target));
-    if (progress) progress->update(fraction, "run", status);
-    return target > 0 && e.drag <= target && e.lift <= target;
-  };
-  RunControl control;
-  control.interrupted = [] { return interrupt_signal() != 0; };
-  std::optional<RunCheckpoint> resume;
-  const bool checkpoints = opt && opt->writer;
-  if (opt && opt->resume) {
-    resume = read_checkpoint(c, *opt);
-    control.resume = &*resume;
-    if (progress) {
-      progress->message(fmt::format("resuming from {} at step {} of {}", checkpoint_path(*opt),
-                                    resume->step, resume->planned_steps));
-    }
-  }
-  if (checkpoints) {
-    control.checkpoint_seconds = 60.0 * c.dem.checkpoint_minutes;
-    control.checkpoint_steps = c.dem.checkpoint_steps;
-    control.checkpoint = [&](const RunCheckpoint& ck) {
-      RunCheckpoint tagged = ck;
-      tagged.case_tag = c.source.hash;
-      const std::vector<unsigned char> bytes = encode_checkpoint(tagged);
-      make_directories(opt->out_dir);
-      write_text_atomically(checkpoint_path(*opt), std::string(bytes.begin(), bytes.end()));
-    };
-  }
-  DemOutput out;
-  try {
-    out = run_simulation(
-        cfg,
-        [&](double fraction, const char* phase) {
-          if (progress) progress->update(fraction, phase);
-        },
-        monitor, control);
-  } catch (const ConfigError& e) {
-    throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
-  } catch (const RunFailure& e) {
-    throw RunError(e.what());
-  }
-  if (checkpoints && !out.interrupted) {
-    std::error_code ignored;  // the run is complete: its checkpoint is of no more use
-    std::filesystem::remove(checkpoint_path(*opt), ignored);
-  }
-  RunResult r = dem_result(c, out);
+/// What a run adds to its result beyond the means: the bed and path flags, a resume or an
+/// interruption, the co-moving window's diagnostics (and its warning), sleeping, the travel the
+/// means come from against the intruder's own wake, and the target error reached or not.
+void add_run_notes(const Case& c, const DemConfig& cfg, const DemOutput& out, double target,
+                   ProgressReporter* progress, const std::string& tag, bool checkpoints,
+                   RunResult& r) {
   r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
   r.diagnostics.values["bed_max_overlap"] = out.bed_max_overlap;
   if (out.resumed_from_step >= 0) {
@@ -567,6 +516,66 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
       r.meta.notes += "; " + warning;
     }
   }
+}
+
+/// One run of the case on the bed of @p cfg (its seed). @p target: the relative error that
+/// ends it (0: off); @p progress: the reporter, or nullptr for a silent replica; @p tag: the
+/// progress line's prefix of the error. @p opt: checkpoints in opt->out_dir, and resume from
+/// there when opt->resume (nullptr: neither, a replica). Every run stops at the next event
+/// when the process is interrupted (interrupt.h); its result is then marked partial.
+RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressReporter* progress,
+                  const std::string& tag, const RunOptions* opt = nullptr) {
+  // The current errors on the progress line; with a target, the run ends once both are at or
+  // below it.
+  const RunMonitor monitor = [&](const DemOutput& so_far, double fraction) {
+    const RelativeErrors e = relative_errors(c, so_far);
+    std::string status = fmt::format("{}error drag {} lift {}", tag, percent(e.drag), percent(e.lift));
+    if (target > 0) status += fmt::format(" (target {})", percent(target));
+    if (progress) progress->update(fraction, "run", status);
+    return target > 0 && e.drag <= target && e.lift <= target;
+  };
+  RunControl control;
+  control.interrupted = [] { return interrupt_signal() != 0; };
+  std::optional<RunCheckpoint> resume;
+  const bool checkpoints = opt && opt->writer;
+  if (opt && opt->resume) {
+    resume = read_checkpoint(c, *opt);
+    control.resume = &*resume;
+    if (progress) {
+      progress->message(fmt::format("resuming from {} at step {} of {}", checkpoint_path(*opt),
+                                    resume->step, resume->planned_steps));
+    }
+  }
+  if (checkpoints) {
+    control.checkpoint_seconds = 60.0 * c.dem.checkpoint_minutes;
+    control.checkpoint_steps = c.dem.checkpoint_steps;
+    control.checkpoint = [&](const RunCheckpoint& ck) {
+      RunCheckpoint tagged = ck;
+      tagged.case_tag = c.source.hash;
+      const std::vector<unsigned char> bytes = encode_checkpoint(tagged);
+      make_directories(opt->out_dir);
+      write_text_atomically(checkpoint_path(*opt), std::string(bytes.begin(), bytes.end()));
+    };
+  }
+  DemOutput out;
+  try {
+    out = run_simulation(
+        cfg,
+        [&](double fraction, const char* phase) {
+          if (progress) progress->update(fraction, phase);
+        },
+        monitor, control);
+  } catch (const ConfigError& e) {
+    throw InputError(fmt::format("{}: {}", c.source.path, e.what()));
+  } catch (const RunFailure& e) {
+    throw RunError(e.what());
+  }
+  if (checkpoints && !out.interrupted) {
+    std::error_code ignored;  // the run is complete: its checkpoint is of no more use
+    std::filesystem::remove(checkpoint_path(*opt), ignored);
+  }
+  RunResult r = dem_result(c, out);
+  add_run_notes(c, cfg, out, target, progress, tag, checkpoints, r);
   return r;
 }
 
