@@ -148,3 +148,32 @@ TEST(Report, HeadlessChromiumLoadsThePage) {
   EXPECT_EQ(count(r.output), count(html)) << r.output;
   EXPECT_NE(r.output.find("</html>"), std::string::npos) << r.output;
 }
+
+// `cmake --install BUILD --prefix DIR` gives a DIR/bin/grainlift whose `report` runs the script
+// installed in DIR/share/grainlift, not the source tree's: a sentinel report.py put there must
+// be the one that runs; then the real one, restored, writes report.html from the installed tree.
+TEST(Install, ReportRunsFromThePrefix) {
+  const fs::path build = fs::path(GRAINLIFT_BINARY).parent_path().parent_path();
+  const fs::path prefix = scratch() / "prefix";
+  const auto inst = run_command("cmake --install '" + build.string() +
+                                              "' --prefix '" + prefix.string() + "'");
+  ASSERT_EQ(inst.code, 0) << inst.output;
+  const fs::path g = prefix / "bin" / "grainlift", share = prefix / "share" / "grainlift";
+  for (const char* f : {"report.py", "plot_results.py", "plot_rheology.py"})
+    EXPECT_TRUE(fs::is_regular_file(share / f)) << f << " not installed";
+  // a copy of the build-tree binary's results (the other tests read the original)
+  const fs::path run = scratch() / "install_run";
+  fs::remove_all(run);
+  fs::copy(reported_run(), run, fs::copy_options::recursive);
+  const std::string real = slurp(share / "report.py");
+  std::ofstream(share / "report.py")
+      << "import sys\nopen(sys.argv[1] + '/installed_script_ran', 'w').write('yes')\n";
+  run_command("'" + g.string() + "' report '" + run.string() + "'");
+  EXPECT_TRUE(fs::exists(run / "installed_script_ran"))
+      << "the installed grainlift did not run PREFIX/share/grainlift/report.py";
+  std::ofstream(share / "report.py") << real;
+  fs::remove(run / "report.html");
+  const auto rep = run_command("'" + g.string() + "' report '" + run.string() + "'");
+  EXPECT_EQ(rep.code, 0) << rep.output;
+  EXPECT_GT(fs::file_size(run / "report.html"), 0u);
+}
