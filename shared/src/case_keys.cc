@@ -33,9 +33,8 @@ KeySpec boolean(std::string path, std::string def, std::string desc) {
           std::move(desc), ""};
 }
 
-std::vector<KeySpec> make_keys() {
-  std::vector<KeySpec> k;
-  // [scene]
+/// [scene]
+void add_scene_keys(std::vector<KeySpec>& k) {
   k.push_back(vec2("scene.gravity", false, "[0.0, 0.0]", -1e3, 1e3, "m/s^2",
                    "gravitational acceleration [gx, gy]"));
   k.push_back(choice("scene.depth_mode", "\"box\"", {"box", "free_surface", "heavy_lid", "lid_only"},
@@ -49,7 +48,10 @@ std::vector<KeySpec> make_keys() {
   k.push_back(real("scene.depth", false, "0.0", 0, 1e4, false, false, "m",
                    "equivalent depth h of the intruder centre, P0 = rho |g| h with rho = Phi "
                    "rho_s (needed, > 0, by every scene.depth_mode but box)"));
-  // [domain]
+}
+
+/// [domain]
+void add_domain_keys(std::vector<KeySpec>& k) {
   k.push_back(vec2("domain.x_range", true, "", -1e4, 1e4, "m", "[xmin, xmax] of the box"));
   k.push_back(vec2("domain.y_range", true, "", -1e4, 1e4, "m", "[ymin, ymax] of the box"));
   k.push_back({"domain.periodic", KeyType::bool2, false, "[true, false]", 0, 0, false, false, {},
@@ -68,7 +70,10 @@ std::vector<KeySpec> make_keys() {
                      "free_disks = each of its disks rises and sinks on its own under its share "
                      "of the load (Guillard et al. 2014's heavy lid of free-to-rise disks; "
                      "docs/dem-model.md)"));
-  // [intruder]
+}
+
+/// [intruder]
+void add_intruder_keys(std::vector<KeySpec>& k) {
   k.push_back(real("intruder.diameter", true, "", 0, 1e3, true, false, "m", "intruder diameter D"));
   k.push_back(vec2("intruder.position", false, "[0.0, 0.0]", -1e4, 1e4, "m",
                    "centre of the intruder at t = 0 (inside the box)"));
@@ -80,7 +85,10 @@ std::vector<KeySpec> make_keys() {
                    "omega ramps linearly from 0 over this time (0: from the start)"));
   k.push_back(real("intruder.friction", false, "grains.friction", 0, 10, false, false, "-",
                    "Coulomb friction between grains and the intruder"));
-  // [grains]
+}
+
+/// [grains]
+void add_grains_keys(std::vector<KeySpec>& k) {
   k.push_back(real("grains.diameter", true, "", 0, 1e2, true, false, "m", "mean grain diameter d"));
   k.push_back(real("grains.polydispersity", false, "0.1", 0, 0.5, false, false, "-",
                    "half-width of the uniform diameter distribution, relative to d"));
@@ -90,7 +98,10 @@ std::vector<KeySpec> make_keys() {
                    "area fraction Phi of the bed"));
   k.push_back(real("grains.friction", false, "0.5", 0, 10, false, false, "-",
                    "Coulomb friction coefficient mu between grains"));
-  // [grains.contact]
+}
+
+/// [grains.contact]
+void add_contact_keys(std::vector<KeySpec>& k) {
   k.push_back(choice("grains.contact.law", "\"kumar2019\"", {"kumar2019", "guillard2014"},
                      "contact law (see docs/dem-model.md)"));
   k.push_back(real("grains.contact.kn", false, "2e9", 0, 1e15, true, false, "Pa",
@@ -107,7 +118,10 @@ std::vector<KeySpec> make_keys() {
                    "Poisson ratio nu (Guillard Table I)", "guillard2014"));
   k.push_back(real("grains.contact.restitution", false, "0.6", 0, 1, true, false, "-",
                    "coefficient of restitution e (Guillard Table I)", "guillard2014"));
-  // [dem]
+}
+
+/// [dem]
+void add_dem_keys(std::vector<KeySpec>& k) {
   k.push_back(real("dem.dt", false, "2e-6", 0, 1e-2, true, false, "s", "time step"));
   k.push_back(real("dem.max_dt_fraction", false, "0.1", 0, 1, true, false, "-",
                    "largest accepted dt as a fraction of the binary collision time"));
@@ -167,7 +181,10 @@ std::vector<KeySpec> make_keys() {
                        "~/.cache/grainlift), \"\" = never cache");
     k.push_back(s);
   }
-  // [continuum]
+}
+
+/// [continuum]
+void add_continuum_keys(std::vector<KeySpec>& k) {
   k.push_back(real("continuum.ambient_pressure", false, "0.0", 0, 1e9, false, false, "Pa",
                    "continuum only: confining pressure at the intruder centre on top of the "
                    "lithostatic part, for a scene without a lid (with domain.lid_pressure the "
@@ -254,7 +271,10 @@ std::vector<KeySpec> make_keys() {
                      "direct (MUMPS) or amg (FGMRES, block preconditioner "
                      "with Trilinos AMG on the velocity block and a 1/eta-weighted pressure mass "
                      "matrix)"));
-  // [output]
+}
+
+/// [output]
+void add_output_keys(std::vector<KeySpec>& k) {
   k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
   k.push_back(real("output.kernel_width_deg", false, "8.0", 0, 90, true, false, "deg",
                    "standard deviation of the Gaussian surface kernel (Guillard eq. A4)"));
@@ -266,6 +286,18 @@ std::vector<KeySpec> make_keys() {
   k.push_back(vec2("output.field_half_size", false, "[3.0, 3.0]", 0, 1e3, "D",
                    "half extent of the field grid, in intruder diameters"));
   k.push_back(boolean("output.vtu", "true", "continuum: write VTU files for ParaView"));
+}
+
+std::vector<KeySpec> make_keys() {
+  std::vector<KeySpec> k;
+  add_scene_keys(k);
+  add_domain_keys(k);
+  add_intruder_keys(k);
+  add_grains_keys(k);
+  add_contact_keys(k);
+  add_dem_keys(k);
+  add_continuum_keys(k);
+  add_output_keys(k);
   return k;
 }
 
