@@ -109,45 +109,17 @@ bool write_lammps_data(const std::string& path, const std::string& title, const 
   return std::fclose(f) == 0;
 }
 
-LammpsExport export_lammps(const Case& cs, const std::string& dir) {
-  const std::string why = lammps_unsupported(cs);
-  if (!why.empty())
-    throw InputError(fmt::format("{}: LAMMPS cannot run this case as grainlift does: {}",
-                                 cs.source.path, why));
-  const DemConfig c = make_dem_config(cs, 1);
-  const PackedBed bed = prepare_packing(packing_config(c));
-  const std::vector<Disk> walls = make_wall_disks(c);
-  make_directories(dir);
+namespace {
 
-  LammpsExport ex;
-  ex.grains = bed.r.size();
-  ex.walls = walls.size();
-  ex.area_fraction = bed.area_fraction;
-  ex.packing_from_cache = bed.from_cache;
-  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-  ex.steps = travel_steps(c);
-  double rmax = 0, rgrain = 0;
-  for (double r : bed.r) rgrain = std::max(rgrain, r);
-  rmax = rgrain;
-  for (const auto& w : walls) rmax = std::max(rmax, w.r);
-  const std::size_t intruder_id = ex.grains + ex.walls + 1;
-  const double lx = c.xmax - c.xmin, ly = c.ymax - c.ymin;
-
-  const std::string data_tmp = temporary_path_for(dir + "/" + kLammpsData);
-  if (!write_lammps_data(data_tmp,
-                         fmt::format("grainlift case {}, {} grains, Phi = {:.6f}", cs.source.path,
-                                     ex.grains, ex.area_fraction),
-                         c, bed, walls))
-    throw InputError(fmt::format("{}/{}: cannot write", dir, kLammpsData));
-  commit_file(data_tmp, dir + "/" + kLammpsData);
-
-  std::string s;
+/// The script's opening comment: where it comes from, the bed, the run, how to use it.
+void add_header(const Case& cs, const DemConfig& c, const LammpsExport& ex, bool bed_from_cache,
+                double speed, std::string& s) {
   auto line = [&s](const std::string& l) { s += l + "\n"; };
   line(fmt::format("# grainlift case {} (hash {}), exported by grainlift {} ({})", cs.source.path,
                    cs.source.hash, grainlift_version(), grainlift_git_revision()));
   line(fmt::format("# bed: {} grains, {} frozen wall disks, area fraction {:.6f} (packing {})",
                    ex.grains, ex.walls, ex.area_fraction,
-                   bed.from_cache ? "reused from grainlift's cache" : "prepared"));
+                   bed_from_cache ? "reused from grainlift's cache" : "prepared"));
   line(fmt::format("# {} steps of {} s: {} d of travel at |V| = {} m/s", ex.steps, num(c.dt),
                    num(c.travel), num(speed)));
   line("# Run it here:   lmp -in in.grainlift          (or: mpirun -np N lmp -in in.grainlift)");
@@ -155,34 +127,12 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
   line("# Types: 1 grains, 2 frozen wall disks, 3 the intruder (the last atom). Every number is");
   line("# the case's; docs/lammps.md maps each and says what differs from grainlift's DEM.");
   line("");
-  line(fmt::format("variable        steps equal {}", ex.steps));
-  line(fmt::format("variable        every equal {}", c.sample_every));
-  line("");
-  line("units           si");
-  line("dimension       2");
-  auto side = [](bool periodic, bool lo_wall, bool hi_wall) {
-    if (periodic) return std::string("p");
-    // an open top (a free surface under gravity) grows the box instead of losing grains
-    return std::string(lo_wall ? "f" : "m") + (hi_wall ? "f" : "m");
-  };
-  line(fmt::format("boundary        {} {} p", side(c.periodic_x, c.wall_left, c.wall_right),
-                   side(c.periodic_y, c.wall_bottom, c.wall_top)));
-  line("atom_style      sphere");
-  line("atom_modify     map array");
-  line("comm_modify     vel yes");
-  line("newton          off");
-  line(fmt::format("read_data       {}", kLammpsData));
-  line("# disks: m = density pi r^2, I = m r^2 / 2 (nve/sphere disc); the intruder's mass makes");
-  line("# m_eff of its contacts the grain's to the last bit (grainlift: a prescribed body)");
-  line(fmt::format("set             type 1 density/disc {}", num(c.density)));
-  line(fmt::format("set             type 2 density/disc {}", num(c.density)));
-  line(fmt::format("set             type 3 density/disc {}", num(c.density * 1e20)));
-  line(fmt::format("set             type 3 omega 0.0 0.0 {}", num(c.intruder_omega)));
-  line("group           grains type 1");
-  line("group           walls type 2");
-  line("group           intruder type 3");
-  line("");
-  const ContactParams& k = c.contact;
+}
+
+/// The pair style of the case's contact law (docs/lammps.md maps each parameter).
+void add_pair_style(const ContactParams& contact, std::string& s) {
+  auto line = [&s](const std::string& l) { s += l + "\n"; };
+  const ContactParams& k = contact;
   if (k.law == ContactLaw::kumar2019) {
     line("# Kumar 2019 eq. (1)-(2): Kn Kt gamma_n gamma_t mu, damping scaled by m_eff (flag 1)");
     line(fmt::format("pair_style      gran/hertz/history {} {} {} {} {} 1", num(k.kn), num(k.kt),
@@ -200,30 +150,13 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
                      num(k.youngs_modulus), num(tsuji_input_for(k.restitution)), num(nu),
                      num(std::sqrt(2 * (1 - nu) / (2 - nu))), num(k.friction)));
   }
-  line("");
-  line("# skin 0.2 r_max as grainlift's lists; wall disks touch neither each other nor the intruder");
-  line(fmt::format("neighbor        {} bin", num(0.2 * rmax)));
-  line("neigh_modify    delay 0 every 1 check yes exclude type 2 2 exclude type 2 3");
-  line(fmt::format("timestep        {}", num(c.dt)));
-  line("fix             integrate grains nve/sphere disc");
-  line("fix             frozen walls freeze");
-  line(fmt::format("fix             drive intruder move linear {} {} 0.0", num(c.intruder_velocity[0]),
-                   num(c.intruder_velocity[1])));
-  line("fix             plane all enforce2d");
-  const double g = std::hypot(c.gravity[0], c.gravity[1]);
-  if (g > 0)
-    line(fmt::format("fix             weight grains gravity {} vector {} {} 0.0", num(g),
-                     num(c.gravity[0] / g), num(c.gravity[1] / g)));
-  line("");
-  line("# force (N/m) and torque (N) of the grains on the intruder at every sample");
-  line("compute         fin intruder reduce sum fx fy");
-  line("compute         tqa intruder property/atom tqz");
-  line("compute         tqin intruder reduce sum c_tqa");
-  line("variable        simtime equal time");
-  line(fmt::format("fix             samples intruder ave/time ${{every}} 1 ${{every}} v_simtime "
-                   "c_fin[1] c_fin[2] c_tqin file {} format \" %.17g\"",
-                   kLammpsForces));
-  line("");
+}
+
+/// The dump of the intruder's contacts: every pair within touching distance in a disk round it
+/// (and its periodic images).
+void add_contact_dump(const DemConfig& c, double rgrain, std::size_t intruder_id, std::string& s) {
+  auto line = [&s](const std::string& l) { s += l + "\n"; };
+  const double lx = c.xmax - c.xmin, ly = c.ymax - c.ymin;
   line("# the intruder's contacts: every pair within touching distance in a disk round it (and");
   line("# its periodic images); grainlift import keeps the intruder's own");
   line(fmt::format("variable        xi equal x[{}]", intruder_id));
@@ -262,13 +195,10 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
                    "c_pairs[2] c_pairs[3] c_pairs[4] c_pairs[5] c_pairs[6] c_pairs[7]",
                    kLammpsContacts));
   line("dump_modify     contacts format float %.15g");
-  line("");
-  line(fmt::format("thermo          {}", std::max<long long>(1, ex.steps / 100)));
-  line("thermo_style    custom step atoms ke cpuremain");
-  line("run             ${steps}");
+}
 
-  write_text_atomically(dir + "/" + kLammpsScript, s);
-  write_text_atomically(dir + "/" + kExportCase, cs.source.text);
+/// The folder's manifest: the case it was exported from, for `grainlift import lammps`.
+void write_manifest(const Case& cs, const LammpsExport& ex, const std::string& dir) {
   std::string manifest =
       "# grainlift export lammps: the case of this folder, for `grainlift import lammps`\n";
   manifest += "case_path " + cs.source.path + "\n";
@@ -278,6 +208,105 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
                           ex.grains, ex.walls, num(ex.area_fraction),
                           ex.packing_from_cache ? 1 : 0, ex.steps);
   write_text_atomically(dir + "/" + kExportManifest, manifest);
+}
+
+}  // namespace
+
+LammpsExport export_lammps(const Case& cs, const std::string& dir) {
+  const std::string why = lammps_unsupported(cs);
+  if (!why.empty())
+    throw InputError(fmt::format("{}: LAMMPS cannot run this case as grainlift does: {}",
+                                 cs.source.path, why));
+  const DemConfig c = make_dem_config(cs, 1);
+  const PackedBed bed = prepare_packing(packing_config(c));
+  const std::vector<Disk> walls = make_wall_disks(c);
+  make_directories(dir);
+
+  LammpsExport ex;
+  ex.grains = bed.r.size();
+  ex.walls = walls.size();
+  ex.area_fraction = bed.area_fraction;
+  ex.packing_from_cache = bed.from_cache;
+  const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
+  ex.steps = travel_steps(c);
+  double rmax = 0, rgrain = 0;
+  for (double r : bed.r) rgrain = std::max(rgrain, r);
+  rmax = rgrain;
+  for (const auto& w : walls) rmax = std::max(rmax, w.r);
+  const std::size_t intruder_id = ex.grains + ex.walls + 1;
+
+  const std::string data_tmp = temporary_path_for(dir + "/" + kLammpsData);
+  if (!write_lammps_data(data_tmp,
+                         fmt::format("grainlift case {}, {} grains, Phi = {:.6f}", cs.source.path,
+                                     ex.grains, ex.area_fraction),
+                         c, bed, walls))
+    throw InputError(fmt::format("{}/{}: cannot write", dir, kLammpsData));
+  commit_file(data_tmp, dir + "/" + kLammpsData);
+
+  std::string s;
+  auto line = [&s](const std::string& l) { s += l + "\n"; };
+  add_header(cs, c, ex, bed.from_cache, speed, s);
+  line(fmt::format("variable        steps equal {}", ex.steps));
+  line(fmt::format("variable        every equal {}", c.sample_every));
+  line("");
+  line("units           si");
+  line("dimension       2");
+  auto side = [](bool periodic, bool lo_wall, bool hi_wall) {
+    if (periodic) return std::string("p");
+    // an open top (a free surface under gravity) grows the box instead of losing grains
+    return std::string(lo_wall ? "f" : "m") + (hi_wall ? "f" : "m");
+  };
+  line(fmt::format("boundary        {} {} p", side(c.periodic_x, c.wall_left, c.wall_right),
+                   side(c.periodic_y, c.wall_bottom, c.wall_top)));
+  line("atom_style      sphere");
+  line("atom_modify     map array");
+  line("comm_modify     vel yes");
+  line("newton          off");
+  line(fmt::format("read_data       {}", kLammpsData));
+  line("# disks: m = density pi r^2, I = m r^2 / 2 (nve/sphere disc); the intruder's mass makes");
+  line("# m_eff of its contacts the grain's to the last bit (grainlift: a prescribed body)");
+  line(fmt::format("set             type 1 density/disc {}", num(c.density)));
+  line(fmt::format("set             type 2 density/disc {}", num(c.density)));
+  line(fmt::format("set             type 3 density/disc {}", num(c.density * 1e20)));
+  line(fmt::format("set             type 3 omega 0.0 0.0 {}", num(c.intruder_omega)));
+  line("group           grains type 1");
+  line("group           walls type 2");
+  line("group           intruder type 3");
+  line("");
+  add_pair_style(c.contact, s);
+  line("");
+  line("# skin 0.2 r_max as grainlift's lists; wall disks touch neither each other nor the intruder");
+  line(fmt::format("neighbor        {} bin", num(0.2 * rmax)));
+  line("neigh_modify    delay 0 every 1 check yes exclude type 2 2 exclude type 2 3");
+  line(fmt::format("timestep        {}", num(c.dt)));
+  line("fix             integrate grains nve/sphere disc");
+  line("fix             frozen walls freeze");
+  line(fmt::format("fix             drive intruder move linear {} {} 0.0", num(c.intruder_velocity[0]),
+                   num(c.intruder_velocity[1])));
+  line("fix             plane all enforce2d");
+  const double g = std::hypot(c.gravity[0], c.gravity[1]);
+  if (g > 0)
+    line(fmt::format("fix             weight grains gravity {} vector {} {} 0.0", num(g),
+                     num(c.gravity[0] / g), num(c.gravity[1] / g)));
+  line("");
+  line("# force (N/m) and torque (N) of the grains on the intruder at every sample");
+  line("compute         fin intruder reduce sum fx fy");
+  line("compute         tqa intruder property/atom tqz");
+  line("compute         tqin intruder reduce sum c_tqa");
+  line("variable        simtime equal time");
+  line(fmt::format("fix             samples intruder ave/time ${{every}} 1 ${{every}} v_simtime "
+                   "c_fin[1] c_fin[2] c_tqin file {} format \" %.17g\"",
+                   kLammpsForces));
+  line("");
+  add_contact_dump(c, rgrain, intruder_id, s);
+  line("");
+  line(fmt::format("thermo          {}", std::max<long long>(1, ex.steps / 100)));
+  line("thermo_style    custom step atoms ke cpuremain");
+  line("run             ${steps}");
+
+  write_text_atomically(dir + "/" + kLammpsScript, s);
+  write_text_atomically(dir + "/" + kExportCase, cs.source.text);
+  write_manifest(cs, ex, dir);
   return ex;
 }
 
