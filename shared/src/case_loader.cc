@@ -489,6 +489,43 @@ void apply_depth_mode(const toml::table& root, Case& c, Diagnostics& diag) {
   }
 }
 
+/// The [continuum] section of the filled table @p r (@p root: the case as written, to tell a
+/// law the case states from the registry's default).
+ContinuumSection read_continuum(const toml::table& r, const toml::table& root) {
+  ContinuumSection cn;
+  cn.ambient_pressure = get_real(r, "continuum.ambient_pressure");
+  cn.mu_s = get_real(r, "continuum.mu_s");
+  cn.mu_2 = get_real(r, "continuum.mu_2");
+  cn.I0 = get_real(r, "continuum.I0");
+  cn.rheology_file = get_text(r, "continuum.rheology_file");
+  cn.law_source = "default";
+  for (const char* law_key : {"continuum.mu_s", "continuum.mu_2", "continuum.I0"})
+    if (root.at_path(law_key)) cn.law_source = "case";
+  cn.regularisation = get_text(r, "continuum.regularisation");
+  cn.delta = get_real(r, "continuum.delta");
+  cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN");
+  cn.eta_max = get_real(r, "continuum.eta_max");
+  cn.pressure_smoothing = get_real(r, "continuum.pressure_smoothing");
+  cn.gravity_treatment = get_text(r, "continuum.gravity_treatment");
+  cn.wall = get_text(r, "continuum.wall");
+  cn.wall_friction = get_real(r, "continuum.wall_friction");
+  cn.inertia = get_text(r, "continuum.inertia");
+  cn.box_half_size = get_vec2(r, "continuum.box_half_size");
+  cn.bed_top = r.at_path("continuum.bed_top") ? get_real(r, "continuum.bed_top")
+                                               : std::numeric_limits<double>::quiet_NaN();
+  cn.far_field = get_text(r, "continuum.far_field");
+  cn.open_length = get_vec2(r, "continuum.open_length");
+  cn.refinement = int(get_int(r, "continuum.refinement"));
+  cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
+  cn.nested = get_bool(r, "continuum.nested");
+  cn.mesh_error_estimate = get_bool(r, "continuum.mesh_error_estimate");
+  cn.tolerance = get_real(r, "continuum.tolerance");
+  cn.max_iterations = int(get_int(r, "continuum.max_iterations"));
+  cn.picard_iterations = int(get_int(r, "continuum.picard_iterations"));
+  cn.linear_solver = get_text(r, "continuum.linear_solver");
+  return cn;
+}
+
 Case build_case(const toml::table& root) {
   const toml::table r = with_defaults(root);
   Case c;
@@ -551,37 +588,7 @@ Case build_case(const toml::table& root) {
   dm.compression_speed = get_real(r, "dem.compression_speed");
   dm.compression_drag = get_bool(r, "dem.compression_drag");
   dm.packing_cache = get_text(r, "dem.packing_cache");
-  auto& cn = c.continuum;
-  cn.ambient_pressure = get_real(r, "continuum.ambient_pressure");
-  cn.mu_s = get_real(r, "continuum.mu_s");
-  cn.mu_2 = get_real(r, "continuum.mu_2");
-  cn.I0 = get_real(r, "continuum.I0");
-  cn.rheology_file = get_text(r, "continuum.rheology_file");
-  cn.law_source = "default";
-  for (const char* law_key : {"continuum.mu_s", "continuum.mu_2", "continuum.I0"})
-    if (root.at_path(law_key)) cn.law_source = "case";
-  cn.regularisation = get_text(r, "continuum.regularisation");
-  cn.delta = get_real(r, "continuum.delta");
-  cn.barker_gray_IN = get_real(r, "continuum.barker_gray_IN");
-  cn.eta_max = get_real(r, "continuum.eta_max");
-  cn.pressure_smoothing = get_real(r, "continuum.pressure_smoothing");
-  cn.gravity_treatment = get_text(r, "continuum.gravity_treatment");
-  cn.wall = get_text(r, "continuum.wall");
-  cn.wall_friction = get_real(r, "continuum.wall_friction");
-  cn.inertia = get_text(r, "continuum.inertia");
-  cn.box_half_size = get_vec2(r, "continuum.box_half_size");
-  cn.bed_top = r.at_path("continuum.bed_top") ? get_real(r, "continuum.bed_top")
-                                               : std::numeric_limits<double>::quiet_NaN();
-  cn.far_field = get_text(r, "continuum.far_field");
-  cn.open_length = get_vec2(r, "continuum.open_length");
-  cn.refinement = int(get_int(r, "continuum.refinement"));
-  cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
-  cn.nested = get_bool(r, "continuum.nested");
-  cn.mesh_error_estimate = get_bool(r, "continuum.mesh_error_estimate");
-  cn.tolerance = get_real(r, "continuum.tolerance");
-  cn.max_iterations = int(get_int(r, "continuum.max_iterations"));
-  cn.picard_iterations = int(get_int(r, "continuum.picard_iterations"));
-  cn.linear_solver = get_text(r, "continuum.linear_solver");
+  c.continuum = read_continuum(r, root);
   auto& o = c.output;
   o.angles = int(get_int(r, "output.angles"));
   o.kernel_width_deg = get_real(r, "output.kernel_width_deg");
