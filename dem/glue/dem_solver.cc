@@ -86,6 +86,12 @@ void add_surface_stderr(const Case& c, const DemOutput& out, double heading,
   s.sigma_t_stderr = std::move(se_t);
 }
 
+/// The travel the run reached, in grain diameters (dem.travel when it ran all its steps).
+double travel_run(const Case& c, const DemOutput& out) {
+  return out.planned_steps > 0 ? c.dem.travel * double(out.steps) / double(out.planned_steps)
+                               : 0.0;
+}
+
 /// /forces, and from the averaged samples /means (block averages) and /surface, /histogram.
 void add_forces_means_and_surface(const Case& c, const DemOutput& out, RunResult& r) {
   const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
@@ -279,6 +285,16 @@ void add_geometry_notes_and_diagnostics(const Case& c, const DemOutput& out, Run
   diag.values = {{"area_fraction", out.achieved_area_fraction},
                  {"collision_time", out.collision_time}};
   diag.texts = {{"pressure_scale_source", source}};
+  // the travel the means come from, and whether the intruder had met its own wake by then
+  // (its front reaching bed it disturbed across the periodic boundary): the continuum's
+  // "periodic" far field stands for means after it, "open" for means before it
+  diag.values["mean_travel_from"] = c.dem.steady_travel;
+  diag.values["mean_travel_to"] = travel_run(c, out);
+  const double wake = solver_box(c).wake_travel / c.grains.diameter;
+  if (std::isfinite(wake)) {
+    diag.values["wake_travel"] = wake;
+    diag.counts["crossed_own_wake"] = travel_run(c, out) > wake ? 1 : 0;
+  }
   if (r.lid && !r.lid->y.empty()) {
     diag.values["lid_height_start"] = r.lid->y.front();
     diag.values["lid_height_end"] = r.lid->y.back();
@@ -450,7 +466,7 @@ void add_run_notes(const Case& c, const DemConfig& cfg, const DemOutput& out, do
     r.diagnostics.counts["interrupted_at_step"] = out.steps;
     r.meta.notes += fmt::format(
         "; PARTIAL: interrupted at step {} of {} ({:.3g} of {:g} d of travel){}", out.steps,
-        out.planned_steps, c.dem.travel * double(out.steps) / double(out.planned_steps),
+        out.planned_steps, travel_run(c, out),
         c.dem.travel, checkpoints ? "; a checkpoint was written: grainlift run CASE --resume DIR goes on" : "");
   }
   if (out.window) {
@@ -478,24 +494,9 @@ void add_run_notes(const Case& c, const DemConfig& cfg, const DemOutput& out, do
     r.diagnostics.counts["sleep_wakes"] = out.sleep_wakes;
     r.diagnostics.counts["sleep_wake_builds"] = out.sleep_wake_builds;
   }
-  {
-    // the travel the means come from, and whether the intruder had met its own wake by then
-    // (its front reaching bed it disturbed across the periodic boundary): the continuum's
-    // "periodic" far field stands for means after it, "open" for means before it
-    const double travel_end =
-        out.planned_steps > 0 ? c.dem.travel * double(out.steps) / double(out.planned_steps) : 0.0;
-    Diagnostics& diag = r.diagnostics;
-    diag.values["mean_travel_from"] = c.dem.steady_travel;
-    diag.values["mean_travel_to"] = travel_end;
-    const double wake = solver_box(c).wake_travel / c.grains.diameter;
-    if (std::isfinite(wake)) {
-      diag.values["wake_travel"] = wake;
-      diag.counts["crossed_own_wake"] = travel_end > wake ? 1 : 0;
-    }
-  }
   if (target > 0) {
     const RelativeErrors final_errors = relative_errors(c, out);
-    const double travel = c.dem.travel * double(out.steps) / double(out.planned_steps);
+    const double travel = travel_run(c, out);
     Diagnostics& diag = r.diagnostics;
     diag.values["target_error"] = target;
     diag.values["drag_relative_error"] = final_errors.drag;
