@@ -8,7 +8,7 @@
 
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/errors.h"
-#include "grainlift/dem/shear_cell.h"
+#include "grainlift/dem/scenes/shear_cell.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/run_driver.h"
 

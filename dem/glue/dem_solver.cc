@@ -18,10 +18,10 @@
 #include <stdexcept>
 #include <thread>
 
-#include "grainlift/dem/checkpoint.h"
+#include "grainlift/dem/system/checkpoint.h"
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/atomic_file.h"
 #include "grainlift/shared/errors.h"

@@ -12,7 +12,7 @@
 
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/lammps_bridge.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "grainlift/shared/atomic_file.h"
 #include "grainlift/shared/case_loader.h"
 #include "grainlift/shared/errors.h"

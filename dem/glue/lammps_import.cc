@@ -14,7 +14,7 @@
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/lammps_bridge.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "grainlift/shared/errors.h"
 
 namespace grainlift::dem {

@@ -13,7 +13,7 @@
 
 #include "block_mean.h"
 #include "grainlift/dem/dem_solver.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "grainlift/shared/case_loader.h"
 
 namespace gd = grainlift::dem;

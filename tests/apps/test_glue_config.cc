@@ -12,7 +12,7 @@
 
 #include "grainlift/continuum/continuum_solver.h"
 #include "grainlift/continuum/solver.h"
-#include "grainlift/dem/packing.h"
+#include "grainlift/dem/bed/packing.h"
 #include "grainlift/shared/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/dem/dem_solver.h"

@@ -12,7 +12,7 @@
 
 #include "block_mean.h"
 #include "dem_beds.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 
 namespace gd = grainlift::dem;
 using grainlift::test_support::block_mean;

@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "grainlift/dem/bed_fingerprint.h"
-#include "grainlift/dem/packing.h"
+#include "grainlift/dem/bed/bed_fingerprint.h"
+#include "grainlift/dem/bed/packing.h"
 #include "dem_beds.h"
 
 using namespace grainlift::dem;

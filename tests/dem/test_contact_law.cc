@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "grainlift/dem/contact_law.h"
-#include "grainlift/dem/contact_law_batch.h"
+#include "grainlift/dem/contact/contact_law.h"
+#include "grainlift/dem/contact/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
 
 namespace gd = grainlift::dem;

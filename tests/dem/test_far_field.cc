@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "dem_beds.h"
 
 namespace gd = grainlift::dem;

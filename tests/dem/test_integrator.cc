@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "grainlift/dem/dem_system.h"
+#include "grainlift/dem/system/dem_system.h"
 
 namespace gd = grainlift::dem;
 

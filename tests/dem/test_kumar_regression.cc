@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/scenes/simulation.h"
 
 #include "block_mean.h"
 

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <string>
 
-#include "grainlift/dem/dem_system.h"
+#include "grainlift/dem/system/dem_system.h"
 #include "grainlift/dem/errors.h"
-#include "grainlift/dem/lid.h"
-#include "grainlift/dem/system_setup.h"
-#include "grainlift/dem/packing.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/boundaries/lid.h"
+#include "grainlift/dem/system/system_setup.h"
+#include "grainlift/dem/bed/packing.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "dem_beds.h"
 
 namespace gd = grainlift::dem;

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "grainlift/dem/shear_cell.h"
+#include "grainlift/dem/scenes/shear_cell.h"
 
 namespace gd = grainlift::dem;
 

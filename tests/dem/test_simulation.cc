@@ -11,12 +11,12 @@
 #include <unistd.h>
 
 #include "grainlift/dem/block_average.h"
-#include "grainlift/dem/checkpoint.h"
-#include "grainlift/dem/contact_law.h"
-#include "grainlift/dem/dem_system.h"
-#include "grainlift/dem/packing.h"
-#include "grainlift/dem/simulation.h"
-#include "grainlift/dem/vector_kernels.h"
+#include "grainlift/dem/system/checkpoint.h"
+#include "grainlift/dem/contact/contact_law.h"
+#include "grainlift/dem/system/dem_system.h"
+#include "grainlift/dem/bed/packing.h"
+#include "grainlift/dem/scenes/simulation.h"
+#include "grainlift/dem/step/vector_kernels.h"
 #include "dem_beds.h"
 
 namespace gd = grainlift::dem;

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "grainlift/dem/dem_system.h"
-#include "grainlift/dem/simulation.h"
+#include "grainlift/dem/system/dem_system.h"
+#include "grainlift/dem/scenes/simulation.h"
 #include "dem_beds.h"
 
 namespace gd = grainlift::dem;

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "checkpoint_bytes.h"
-#include "grainlift/dem/checkpoint.h"
+#include "grainlift/dem/system/checkpoint.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

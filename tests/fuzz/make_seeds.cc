@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/dem/checkpoint.h"
+#include "grainlift/dem/system/checkpoint.h"
 #include "grainlift/shared/result_file.h"
 #include "result_ops.h"
 #include "sample_result.h"

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "grainlift/dem/bed_fingerprint.h"
+#include "grainlift/dem/bed/bed_fingerprint.h"
 
 namespace grainlift::dem {
 

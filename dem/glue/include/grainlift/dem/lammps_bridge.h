@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "grainlift/dem/dem_config.h"
-#include "grainlift/dem/packing.h"
+#include "grainlift/dem/bed/packing.h"
 #include "grainlift/shared/case_model.h"
 #include "grainlift/shared/run_result.h"
 

@@ -1,0 +1,221 @@
+// Grain-grain and grain-wall contact forces of a range of rows (stage 2 of the step): a
+// distance screen over the listed pairs, the history of separated pairs forgotten, then the
+// contact law (contact_law.h) on the touching pairs in batches.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "grainlift/dem/contact/contact_law_batch.h"
+#include "grainlift/dem/system/dem_system.h"
+#include "step/step_kernels.h"
+
+namespace grainlift::dem {
+
+namespace {
+/// The arrays the kinematics of a listed pair reads (local copies: the compiler can keep them
+/// in registers, no aliasing with the arrays written).
+struct PairInputs {
+  PeriodicBox box;
+  const double *x, *y, *r, *vx, *vy, *w, *ax, *ay, *al, *inv_m, *reff, *meff;
+  const int *owner, *partner;
+  bool pair_consts;  ///< r_eff and m_eff from the list build (no radius changed since)
+  double h, dt;      ///< half the spring step; the spring step
+
+  /// Normal, overlap, r_eff, m_eff and the contact-point motion of pair k (predicted
+  /// velocities at t + dt for the force, half-step velocities for the spring).
+  ContactKinematics of(std::int64_t k) const {
+    const int i = owner[k], j = partner[k];
+    const double ri = r[i], rj = r[j];
+    double dx = x[i] - x[j], dy = y[i] - y[j];
+    box.min_image(dx, dy);
+    const double rs = ri + rj;
+    const double dist = std::sqrt(dx * dx + dy * dy);
+    const double inv_dist = 1.0 / dist;
+    ContactKinematics kin;
+    kin.nx = dx * inv_dist;
+    kin.ny = dy * inv_dist;
+    kin.delta = rs - dist;
+    if (pair_consts) {
+      kin.r_eff = reff[k];
+      kin.m_eff = meff[k];
+    } else {
+      kin.r_eff = ri * rj / rs;
+      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
+    }
+    contact_point_motion(kin.nx, kin.ny, ri, rj,
+                         {vx[i] + h * ax[i], vy[i] + h * ay[i], w[i] + h * al[i]},
+                         {vx[j] + h * ax[j], vy[j] + h * ay[j], w[j] + h * al[j]},
+                         {vx[i], vy[i], w[i]}, {vx[j], vy[j], w[j]}, dt, kin);
+    return kin;
+  }
+};
+}  // namespace
+
+void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
+  const int lo = chunk * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
+  range_forces(lo, hi, touch_[static_cast<std::size_t>(chunk)],
+               touch_prev_[static_cast<std::size_t>(chunk)], spring_dt, max_ov, full_check, nullptr);
+}
+
+void DemSystem::range_forces(int lo, int hi, TouchList& now, TouchList& before,
+                             double spring_dt, double& max_ov, bool full_check,
+                             const std::uint8_t* shared) {
+  if (shared) {
+    range_forces_impl<true>(lo, hi, now, before, spring_dt, max_ov, full_check, shared);
+  } else {
+    range_forces_impl<false>(lo, hi, now, before, spring_dt, max_ov, full_check, nullptr);
+  }
+}
+
+template <bool kTeam>
+void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchList& before_list,
+                                  double spring_dt, double& max_ov, bool full_check,
+                                  const std::uint8_t* shared) {
+  // local copies: the compiler can keep them in registers (no aliasing with the arrays)
+  const PeriodicBox box = opt_.box;
+  const LawCoefficients law = law_;
+  const double mu = mu_;
+  const double* x = p_.x.data();
+  const double* y = p_.y.data();
+  const double* r = p_.r.data();
+  const int* owner = nl_.owner.data();
+  const int* partner = nl_.partner.data();
+  double* sx = nl_.sx.data();
+  double* sy = nl_.sy.data();
+  double* pfx = nl_.fx.data();
+  double* pfy = nl_.fy.data();
+  double* pq = nl_.q.data();
+  const int ng = n_grains_;
+  // The forces are summed per grain in the pair loop itself (Newton's third law), in pair
+  // order, except for the shared grains of a team (run_segment_team): their pair forces are
+  // stored and summed at the kick, in the same order (pairs where the grain is the partner,
+  // by pair index, then its own row), so the results are the same bits.
+  const bool store_all = store_pair_forces_;
+  const bool forget_forces = store_all || kTeam;
+  double* sfx = fx_.data();
+  double* sfy = fy_.data();
+  double* sq = tq_.data();
+  std::uint8_t* touched = touched_.data();
+  const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
+  std::swap(touch_list, before_list);
+  // Pass 1: distance checks only, one flat loop over the range's pairs (most listed pairs of
+  // a relaxed bed are apart); no stores but the list of touching pairs.
+  touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r,
+                                      radii_scaled_ ? nullptr : pair_rs2_.data(), n_total_,
+                                      k0, k1, touch_list.k.data());
+  const std::int64_t* touching = touch_list.k.data();
+  const std::size_t n_touching = touch_list.n;
+  // A pair that is apart forgets its history (and its stored force). Only pairs that touched
+  // at the step before can hold any: those that no longer touch are found by a merge of the
+  // two sorted lists; after a list build every pair is checked.
+  auto forget = [&](std::int64_t k) {
+    if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
+    if (forget_forces && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
+  };
+  if (full_check) {
+    std::size_t a = 0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+      if (a < n_touching && touching[a] == k) {
+        ++a;
+        continue;
+      }
+      forget(k);
+    }
+  } else {
+    std::size_t a = 0;
+    for (std::size_t b = 0; b < before_list.n; ++b) {
+      const std::int64_t k = before_list.k[b];
+      while (a < n_touching && touching[a] < k) ++a;
+      if (a < n_touching && touching[a] == k) continue;
+      forget(k);
+    }
+  }
+  // Pass 2: the contact law on the touching pairs, in pair order, in batches of kBatch: the
+  // kinematics of the batch, then the law on each (independent contacts, so that the long
+  // chains of divisions and square roots of several contacts overlap), then the sums. Every
+  // contact goes through the same operations as one at a time: the same bits.
+  constexpr std::size_t kBatch = 32;
+  // the pairs' kinematics (PairInputs::of); r_eff and m_eff of each pair computed by the same
+  // expressions at the list build (valid until a radius changes)
+  const PairInputs in{opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), p_.vx.data(), p_.vy.data(),
+                        p_.w.data(), p_.ax.data(), p_.ay.data(), p_.alpha.data(), p_.inv_m.data(),
+                        pair_reff_.data(), pair_meff_.data(), nl_.owner.data(), nl_.partner.data(),
+                        !radii_scaled_, 0.5 * spring_dt, spring_dt};
+  // the batch in structure-of-arrays form (contact_law_batch.h); value-initialised: lanes
+  // past a short batch hold finite numbers
+  ContactBatch cb{};
+  static_assert(kBatch == ContactBatch::kLanes);
+  const std::size_t nt = n_touching;
+  // The frictionless path (set_frictionless_path, mu = 0): the normal force only. The Coulomb
+  // cap makes F_t zero in the general law, so the forces are the same (the torques +-0), and no
+  // spring is read or written: they stay zero (the general law would store -B_t v_t / A_t on
+  // slip, which no force reads while mu = 0).
+  const bool normal_only = frictionless_path_active();
+  for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
+    const std::size_t nb = std::min(kBatch, nt - b0);
+    const std::int64_t* kb = touching + b0;
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::int64_t k = kb[b];
+      const ContactKinematics kin = in.of(k);
+      if (normal_only) {
+        const double fn = normal_contact_force(law, kin);
+        cb.nx[b] = kin.nx;
+        cb.ny[b] = kin.ny;
+        cb.delta[b] = kin.delta;
+        cb.fx[b] = fn * kin.nx;
+        cb.fy[b] = fn * kin.ny;
+        cb.ftx[b] = cb.fty[b] = 0.0;
+      } else {
+        cb.set(b, kin, sx[k], sy[k]);
+      }
+    }
+    if (!normal_only) contact_force_batch(law, mu, cb, nb);
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::int64_t k = kb[b];
+      const int i = owner[k], j = partner[k];
+      if (sleep_active_) wake(i, j);
+      if (!normal_only) {
+        sx[k] = cb.sx[b];
+        sy[k] = cb.sy[b];
+      }
+      const double fxb = cb.fx[b], fyb = cb.fy[b];
+      const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
+      const bool si = kTeam && shared[i] != 0;
+      const bool sj = kTeam && j < ng && shared[j] != 0;
+      if (store_all || si || sj) {
+        pfx[k] = fxb;
+        pfy[k] = fyb;
+        pq[k] = qk;
+      }
+      if (!si) {
+        sfx[i] += fxb;
+        sfy[i] += fyb;
+        sq[i] += qk;
+        touched[i] = 1;
+      } else {
+        // another thread may mark the same grain (same value): a relaxed atomic byte store
+        __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
+      }
+      if (j < ng) {
+        if (!sj) {
+          sfx[j] -= fxb;
+          sfy[j] -= fyb;
+          sq[j] += qk;
+          touched[j] = 1;
+        } else {
+          __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
+        }
+      }
+      // largest overlap fraction: the division only where it can raise the maximum (the
+      // pre-test has a margin far above the rounding of either side)
+      const double dmin = 2.0 * std::min(r[i], r[j]);
+      if (cb.delta[b] > max_ov * dmin * (1.0 - 1e-12)) {
+        const double ov = cb.delta[b] / dmin;
+        if (ov > max_ov) max_ov = ov;
+      }
+    }
+  }
+}
+
+
+}  // namespace grainlift::dem
