@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "grainlift/dem/dem_config.h"
-#include "grainlift/dem/dem_system.h"
-#include "grainlift/dem/packing.h"
-#include "grainlift/dem/system_setup.h"
+#include "grainlift/dem/system/dem_system.h"
+#include "grainlift/dem/bed/packing.h"
+#include "grainlift/dem/system/system_setup.h"
 #include "dem_beds.h"
 
 namespace grainlift::bench {

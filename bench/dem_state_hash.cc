@@ -13,8 +13,8 @@
 #include <string>
 
 #include "bench_beds.h"
-#include "grainlift/dem/dem_system.h"
-#include "grainlift/dem/packing.h"
+#include "grainlift/dem/system/dem_system.h"
+#include "grainlift/dem/bed/packing.h"
 
 namespace gd = grainlift::dem;
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "bench_beds.h"
-#include "grainlift/dem/packing.h"
+#include "grainlift/dem/bed/packing.h"
 #include "grainlift/dem/lammps_bridge.h"
 
 int main(int argc, char** argv) {

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "grainlift/dem/shear_cell.h"
+#include "grainlift/dem/scenes/shear_cell.h"
 
 namespace gd = grainlift::dem;
 

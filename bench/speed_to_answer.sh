@@ -18,10 +18,6 @@
 #   frictionless  the saving of dem.frictionless_path on the reduced run with grains.friction = 0
 #   sleep     the saving of sleeping grains (dem.sleep, speed 0: the same bits) on the reduced
 #             dense and dilute runs and on the first 6 d of the full-size Kumar box
-#   window    the co-moving window (dem.window_width) on the reduced dilute bed against the
-#             60 d box alone and a 180 d box, 150 d of travel, three beds; then seed 1 with
-#             the window and in the 180 d box side by side, each pinned to a core (the saving)
-#             (scripts/window_study.py; the dense bed's study takes ~40 min: docs/performance.md)
 #   fem       the FEM's error against time on the demo geometry, refinement 0-4 with nested
 #             iteration, 0-3 without (scripts/fem_pareto.py)
 #   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
@@ -34,7 +30,7 @@
 # (default true / cores). About 25 minutes on 2 cores with REPS=3.
 set -euo pipefail
 BUILD=${1:-build}
-SECTIONS=${2:-"cores lammps threads replicas fields frictionless sleep window fem error"}
+SECTIONS=${2:-"cores lammps threads replicas fields frictionless sleep fem error"}
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/.." && pwd)
 WORK=${WORK:-/tmp/grainlift_speed}
@@ -228,35 +224,6 @@ for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.
     print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - 1 / r):.0f}% | "
           f"{100 * float(diag['sleeping_fraction']):.0f}% | {int(diag['sleep_wakes'])} | {same} |")
 PYEOF
-fi
-
-if has window; then
-  echo; echo "## Co-moving window against the 60 d box alone and a 180 d box (reduced dilute, one thread)"
-  rm -rf "$WORK/window"
-  "$PY" "$ROOT/scripts/window_study.py" "$GL" "$WORK/window" --case "$ROOT/cases/kumar2019/reduced_phi035.toml" \
-    --v0 1.0 --omega 40 --seeds 1 2 3
-  # The wall times above come from runs in turn, which this VM's slow spells move by up to
-  # 40%. The saving itself: the window run and the 3x box run side by side, each pinned to
-  # one core (taskset), then with the cores swapped, twice (both meet the same slow spells).
-  if command -v taskset >/dev/null && [ "$(nproc)" -ge 2 ]; then
-    echo; echo "# seed 1, side by side (window on one core, the 3x box on the other; cores swapped):"
-    side() {  # side NAME CORE SET
-      /usr/bin/time -f "%e" -o "$WORK/window/side_$1.time" taskset -c "$2" "$GL" run \
-        "$ROOT/cases/kumar2019/reduced_phi035.toml" --solver dem --threads 1 --quiet \
-        --out "$WORK/window/side_$1" --set "intruder.velocity=[1.0,0.0]" --set intruder.omega=40 \
-        --set dem.travel=150 --set dem.steady_travel=30 --set output.fields=false \
-        --set dem.seed=1 --set "$3" >/dev/null
-    }
-    for rep in 1 2; do
-      for core in 0 1; do
-        side window "$core" dem.window_width=10 &
-        side long $((1 - core)) "domain.x_range=[-1.7999999999999998,1.7999999999999998]" &
-        wait
-        w=$(tail -1 "$WORK/window/side_window.time"); l=$(tail -1 "$WORK/window/side_long.time")
-        echo "window (core $core) $w s, 3x box $l s: 3x box / window $(awk -v a="$l" -v b="$w" 'BEGIN { printf "%.2f", a / b }')"
-      done
-    done
-  fi
 fi
 
 if has fem; then

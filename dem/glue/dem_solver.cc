@@ -365,7 +365,6 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.sample_every = c.dem.sample_every;
   d.field_every = c.dem.field_every;
   d.frictionless_path = c.dem.frictionless_path;
-  d.window_width = c.dem.window_width;
   d.sleep_speed = c.dem.sleep ? c.dem.sleep_speed * std::hypot(c.intruder.velocity[0], c.intruder.velocity[1]) : -1.0;
   d.threads = threads;
   d.relax_ke_per_grain = c.dem.relax_ke;
@@ -394,9 +393,6 @@ struct RelativeErrors {
   double lift = std::numeric_limits<double>::quiet_NaN();
 };
 constexpr std::size_t kMinBlockSamples = 5;
-/// Contacts per grain inside the co-moving window's band above which a run warns (between a
-/// dilute bed's ~0.2 and a contact network's 2.5 or more)
-constexpr double kWindowContactsLimit = 1.0;
 
 RelativeErrors relative_errors(const Case& c, const DemOutput& o) {
   RelativeErrors e;
@@ -450,7 +446,7 @@ RunCheckpoint read_checkpoint(const Case& c, const RunOptions& opt) {
 }
 
 /// What a run adds to its result beyond the means: the bed and path flags, a resume or an
-/// interruption, the co-moving window's diagnostics (and its warning), sleeping, the travel the
+/// interruption, sleeping, the travel the
 /// means come from against the intruder's own wake, and the target error reached or not.
 void add_run_notes(const Case& c, const DemConfig& cfg, const DemOutput& out, double target,
                    ProgressReporter* progress, const std::string& tag, bool checkpoints,
@@ -468,26 +464,6 @@ void add_run_notes(const Case& c, const DemConfig& cfg, const DemOutput& out, do
         "; PARTIAL: interrupted at step {} of {} ({:.3g} of {:g} d of travel){}", out.steps,
         out.planned_steps, travel_run(c, out),
         c.dem.travel, checkpoints ? "; a checkpoint was written: grainlift run CASE --resume DIR goes on" : "");
-  }
-  if (out.window) {
-    r.diagnostics.values["window_band_grains"] = out.window_band_grains;
-    r.diagnostics.values["window_matched_fraction"] = out.window_matched_fraction;
-    r.diagnostics.values["window_core_rms"] = out.window_core_rms;
-    r.diagnostics.values["window_bed_slide"] = out.window_bed_slide;
-    r.diagnostics.values["window_band_contacts"] = out.window_band_contacts;
-    // The band's springs act in parallel with any contact network through it: in a dilute bed
-    // (reduced Kumar Phi 0.35: 0.2 contacts per band grain) the window kept the forces of a
-    // box three times as long; in a contact network (Phi 0.8: 2.5) it raised the drag 1.7x.
-    if (out.window_band_contacts > kWindowContactsLimit) {
-      const std::string warning = fmt::format(
-          "warning: dem.window_width: the band's grains touch {:.2g} others each (more than {:g}): "
-          "a contact network, which the band stiffens (the reduced Kumar bed at Phi 0.8: 1.7x "
-          "the drag of a box three times as long; docs/performance.md, Skips); compare with a "
-          "longer box without the window",
-          out.window_band_contacts, kWindowContactsLimit);
-      if (progress) progress->message(warning);
-      r.meta.notes += "; " + warning;
-    }
   }
   if (cfg.sleep_speed >= 0) {
     r.diagnostics.values["sleeping_fraction"] = out.sleeping_fraction;

@@ -186,6 +186,10 @@ void check_table(const toml::table& table, const std::string& prefix, Diagnostic
     if (!spec) {
       if (is_section(path))
         diag.error(where, fmt::format("'{}' must be a table (a [{}] section)", path, path));
+      else if (path == "dem.window_width")
+        diag.error(where, "'dem.window_width': the co-moving window was removed, as it failed "
+                          "its own validation (studies/comoving_window/README.md); use a longer "
+                          "periodic box");
       else
         diag.error(where, fmt::format("unknown key '{}' (see `grainlift keys` or "
                                       "docs/case-format.md)", path));
@@ -369,21 +373,6 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
   if (c.grains.diameter * 4 > std::min(Lx, Ly))
     diag.error(where("grains.diameter"),
                "the box must be at least 4 grain diameters wide in each direction");
-  if (c.dem.window_width > 0) {
-    // the band stays at least one intruder diameter from the intruder's surface (a relative
-    // 1e-9 of slack: (Lx - 3 D) / d is rounded)
-    const double widest = Lx - 3.0 * in.diameter;
-    if (!d.periodic[0] || in.velocity[1] != 0.0)
-      diag.error(where("dem.window_width"),
-                 "dem.window_width needs domain.periodic[0] = true and an intruder moving along "
-                 "x (intruder.velocity = [V, 0]): the band lies half a box from it along x");
-    else if (c.dem.window_width * c.grains.diameter > widest + 1e-9 * Lx)
-      diag.error(where("dem.window_width"),
-                 fmt::format("dem.window_width = {} d must lie in (0, {:.4g}] d: the band, half a "
-                             "box length from the intruder, must stay one intruder diameter from "
-                             "its surface (box length - 3 intruder diameters, in grain diameters)",
-                             c.dem.window_width, std::max(0.0, widest / c.grains.diameter)));
-  }
   // Law-specific contact keys may only appear with their law.
   if (auto contact = r.at_path("grains.contact").as_table()) {
     for (const auto& [key, node] : *contact) {
@@ -579,7 +568,6 @@ Case build_case(const toml::table& root) {
   dm.checkpoint_minutes = get_real(r, "dem.checkpoint_minutes");
   dm.checkpoint_steps = get_int(r, "dem.checkpoint_steps");
   dm.sleep_speed = get_real(r, "dem.sleep_speed");
-  dm.window_width = get_real(r, "dem.window_width");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));
   dm.field_every = int(get_int(r, "dem.field_every"));

@@ -131,15 +131,12 @@ TEST(Simulation, CollisionTimeFormulaMatchesAnElasticCollision) {
 namespace {
 /// A 60 d x 40 d bed at Phi 0.8 (~2300 grains, enough for two threads), seed 11, a short run
 /// (travel 0.4 d, steady from 0.1 d), its packing cached under a fresh directory named @p tag.
-/// The co-moving window's test run: 30 d x 20 d at Phi 0.8, 1.5 d of travel, a band
-/// kWindowWidth d wide (at most (30 - 3 x 5) d); @p width 0 is the same run without it.
-constexpr double kWindowWidth = 8;
-gd::DemConfig window_case(const char* tag, double width = kWindowWidth) {
+/// A second bed for the vector kernels: 30 d x 20 d at Phi 0.8, seed 22, 1.5 d of travel.
+gd::DemConfig longer_small_case(const char* tag) {
   auto c = small_case(30, 20, 0.8);
   c.seed = 22;
   c.travel = 1.5;
   c.steady_travel = 0.5;
-  c.window_width = width;
   c.packing_cache_dir = temp_cache_dir(tag);
   return c;
 }
@@ -193,15 +190,14 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
 
 // The vector (AVX-512) loops of the step (pair screen, kick and drift, Kumar's law) give the
 // bits of the scalar code: the same run with them forbidden, on 1 and 2 threads, gives the
-// same intruder samples; also with the co-moving window, whose pull the vector kick adds to
-// the band's grains (the run of the window's checkpoint test). Tolerance: exact equality.
+// same intruder samples, on two beds. Tolerance: exact equality.
 // (Without AVX-512 both runs are scalar.)
 TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
   auto plain = short_seeded_case("simd");
-  auto window = window_case("simd_window");
+  auto longer = longer_small_case("simd_longer");
   std::printf("vector kernels on this CPU: %s\n", gd::vector_kernels() ? "yes" : "no");
-  for (gd::DemConfig* c : {&plain, &window}) {
-    SCOPED_TRACE(c->window_width > 0 ? "window" : "no window");
+  for (gd::DemConfig* c : {&plain, &longer}) {
+    SCOPED_TRACE(c == &plain ? "60 d x 40 d" : "30 d x 20 d");
     for (int threads : {1, 2}) {
       c->threads = threads;
       gd::set_vector_kernels(true);
@@ -371,41 +367,6 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
   const gd::RunCheckpoint ck = gd::decode_checkpoint(run_with_checkpoints(c).at(0));
   c.travel = 2.0;
   EXPECT_THROW(resume_from(c, ck), gd::ConfigError);
-  std::filesystem::remove_all(c.packing_cache_dir);
-}
-
-// Physics: the co-moving window's state is part of the checkpoint (the prepared bed's sites,
-// the band's start, each grain's site of the last build), so a run with the window resumed
-// from a checkpoint gives the uninterrupted run's samples bit for bit (exact equality), on one
-// and two threads; and the window acts: the samples are not those of the run without it. A
-// checkpoint taken without the window is refused by a run with it.
-TEST(Simulation, ResumedRunWithTheWindowGivesTheBitsOfTheUninterruptedRun) {
-  auto c = window_case("resume_window", 0.0);
-  const auto without = gd::run_simulation(c);
-  c.window_width = kWindowWidth;
-  for (int threads : {1, 2}) {
-    SCOPED_TRACE("threads " + std::to_string(threads));
-    c.threads = threads;
-    const auto whole = gd::run_simulation(c);
-    EXPECT_TRUE(whole.window);
-    EXPECT_GT(whole.window_band_grains, 50.0);
-    EXPECT_GT(whole.window_matched_fraction, 0.9);
-    bool differ = false;
-    for (std::size_t k = 0; k < whole.samples.size() && k < without.samples.size(); ++k) {
-      differ = differ || whole.samples[k].fx != without.samples[k].fx;
-    }
-    EXPECT_TRUE(differ) << "the window must change the run";
-    const auto saved = run_with_checkpoints(c);
-    ASSERT_GE(saved.size(), 2u);
-    const gd::RunCheckpoint ck = gd::decode_checkpoint(saved[1]);
-    const auto resumed = resume_from(c, ck);
-    expect_same_samples(whole, resumed);
-    EXPECT_EQ(whole.window_core_rms, resumed.window_core_rms);
-    // the same checkpoint resumed by a run without the window: refused
-    auto off = c;
-    off.window_width = 0;
-    EXPECT_THROW(resume_from(off, ck), gd::ConfigError);
-  }
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 

@@ -21,7 +21,6 @@ constexpr double kPi = 3.14159265358979323846;
 struct Variant {
   bool store_pair_forces = false;
   bool sleep = false;
-  bool window = false;
 };
 
 /// A periodic strip (x) between two rows of frozen wall disks, filled with grains on a jittered
@@ -70,8 +69,6 @@ std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Var
   s->set_intruder(0, 0, 0.03, 1.0, 0.0, 5.0, 0.0);
   s->set_store_pair_forces(v.store_pair_forces);
   if (v.sleep) s->set_sleep(0.05);
-  // a band 0.4 m wide centred on x = 0.3 m: it reaches the moving grains at 0.1 < |x| < 0.15
-  if (v.window) s->set_window(0.4, 500.0, 0.0108);
   s->set_team_fixed(fixed);
   return s;
 }
@@ -105,21 +102,16 @@ std::vector<double> trajectory(gd::DemSystem& s) {
 // rows each thread takes. A ploughed strip of ~2,000 grains (walls, periodic x, an intruder
 // with friction and spin, list rebuilds) runs 6,000 steps on one thread and on teams of 2 and
 // 3 threads that run every step (no tuning), with the pair forces stored or not (fields, the
-// lid), with sleeping grains and with the co-moving window's band over the grains at rest and
-// the edges of the moving ones (its pull is in the kick of each range). Tolerance: exact equality of every position, velocity and
+// lid) and with sleeping grains. Tolerance: exact equality of every position, velocity and
 // intruder force; the team must really run (every step on it, shared grains summed at the kick).
 TEST(Team, AnyTeamGivesTheBitsOfOneThread) {
-  for (const Variant v : {Variant{false, false}, Variant{true, false}, Variant{false, true},
-                          Variant{false, false, true}}) {
+  for (const Variant v : {Variant{false, false}, Variant{true, false}, Variant{false, true}}) {
     auto one = ploughed_strip(1, false, v);
     const std::vector<double> ref = trajectory(*one);
     EXPECT_GE(one->list_builds(), 3) << "the run must rebuild its lists";
     EXPECT_GT(std::abs(one->intruder_fx()), 0.0) << "the intruder must plough";
     if (v.sleep) {
       EXPECT_GT(one->sleeping_grain_steps(), 0.0) << "some grains must sleep";
-    }
-    if (v.window) {
-      EXPECT_GT(one->window_stats().band_grains, 100.0) << "the band must hold grains";
     }
     for (int threads : {2, 3}) {
       auto team = ploughed_strip(threads, true, v);
@@ -135,7 +127,7 @@ TEST(Team, AnyTeamGivesTheBitsOfOneThread) {
         }
       }
       EXPECT_EQ(differ, 0u) << threads << " threads, stored forces " << v.store_pair_forces
-                            << ", sleep " << v.sleep << ", window " << v.window << ": first difference at value " << first;
+                            << ", sleep " << v.sleep << ": first difference at value " << first;
     }
   }
 }

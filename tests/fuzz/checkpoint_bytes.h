@@ -20,14 +20,14 @@ inline std::uint64_t checkpoint_fnv1a(const unsigned char* p, std::size_t n) {
 }
 
 /// @brief Bytes to decode: @p mode 0 the payload as it is; 1 magic + payload + checksum;
-/// 2 magic + format 2 + payload + checksum.
+/// 2 magic + format 3 + payload + checksum.
 inline std::vector<unsigned char> checkpoint_bytes(int mode, const std::uint8_t* payload,
                                                    std::size_t size) {
   std::vector<unsigned char> b;
   if (mode == 0) return std::vector<unsigned char>(payload, payload + size);
   b.assign(checkpoint_magic, checkpoint_magic + sizeof checkpoint_magic);
   if (mode == 2) {
-    const std::uint32_t format = 2;
+    const std::uint32_t format = 3;
     unsigned char f[4];
     std::memcpy(f, &format, 4);
     b.insert(b.end(), f, f + 4);

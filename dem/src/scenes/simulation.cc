@@ -168,12 +168,6 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   out.frictionless_path = s.frictionless_path_active();
   s.set_sleep(c.sleep_speed);
   const double speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-  if (c.window_width > 0) {
-    // the sites are the prepared bed's positions (a resumed run takes them from its checkpoint)
-    const double width = c.window_width * d;
-    s.set_window(width, c.window_rate * speed / width, c.window_match_radius * d);
-    out.window = true;
-  }
   if (c.lid_pressure > 0) {
     s.attach_lid(PressureLid(c, s));
     out.lid_mass = s.lid()->mass();
@@ -380,14 +374,6 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
   out.steps_on_team = s.steps_on_team();
   if (s.steps() > 0) {
     out.sleeping_fraction = s.sleeping_grain_steps() / (double(s.steps()) * std::max(1, s.grains()));
-  }
-  if (out.window) {
-    const DemSystem::WindowStats ws = s.window_stats();
-    out.window_band_grains = ws.band_grains;
-    out.window_matched_fraction = ws.matched_fraction;
-    out.window_core_rms = ws.core_rms / d;
-    out.window_bed_slide = ws.slide / d;
-    out.window_band_contacts = s.window_band_contacts();
   }
   out.sleep_wakes = s.woken();
   out.sleep_wake_builds = s.wake_builds();

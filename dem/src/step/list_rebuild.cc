@@ -11,7 +11,6 @@ namespace grainlift::dem {
 void DemSystem::build_lists() {
   nl_.build(opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), n_grains_, n_total_, skin_,
             team_);
-  update_window();  // the co-moving window's band: flags and sites (comoving_window.cc)
   update_sleep();  // sleeping grains: their pairs leave the list (sleeping.cc)
   // Build positions in float, and a bound on |float(x) - x| for the displacement check (which
   // stays conservative): half an ulp of a float relative to the largest coordinate (grains

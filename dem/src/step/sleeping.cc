@@ -43,11 +43,11 @@ void DemSystem::update_sleep() {
   dormant_.assign(static_cast<std::size_t>(n), 0);
   sleep_near_.assign(static_cast<std::size_t>(n), 0);  // 1: moving or near a moving body
   // quiet grains: slow, no force at the last step (accelerations are the no-force values),
-  // not an intruder candidate nor in reach of the window's band, beyond the intruder's reach
+  // not an intruder candidate, beyond the intruder's reach
   const double reach = intruder_.present ? (1.0 + kSleepReach) * intruder_.r + 2.0 * skin_ : 0.0;
   for (int i = 0; i < n_grains_; ++i) {
     bool quiet = std::fabs(p_.vx[i]) <= vs && std::fabs(p_.vy[i]) <= vs &&
-                 std::fabs(p_.w[i]) * p_.r[i] <= vs && !(grain_flags_[i] & (kAccelSet | kCandidate | kWindow));
+                 std::fabs(p_.w[i]) * p_.r[i] <= vs && !(grain_flags_[i] & (kAccelSet | kCandidate));
     if (quiet && intruder_.present) {
       double dx = p_.x[i] - intruder_.x, dy = p_.y[i] - intruder_.y;
       opt_.box.min_image(dx, dy);

@@ -201,40 +201,21 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       __m512d axn = _mm512_add_pd(_mm512_mul_pd(fx, inv_m), gx);
       __m512d ayn = _mm512_add_pd(_mm512_mul_pd(fy, inv_m), gy);
       __m512d aln = _mm512_mul_pd(_mm512_mul_pd(mr, qs), _mm512_loadu_pd(k.inv_i + i));
-      // the window's band: its pull added on the lanes in its reach that are awake (a sleeper
-      // keeps its bits, as finish_impl skips it)
-      const std::uint64_t wf = f & (kOnes * k.window_bit);
-      std::uint64_t awake_wf = wf;  // those lanes that are awake
-      if (wf) {
-        if (k.dormant) {
-          std::uint64_t s;
-          std::memcpy(&s, k.dormant + i, 8);
-          awake_wf &= ~(s * 0xff);
-        }
-        const __mmask8 wm = _mm512_test_epi64_mask(
-            _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(awake_wf))),
-            _mm512_set1_epi64(0xff));
-        axn = _mm512_mask_add_pd(axn, wm, axn, _mm512_loadu_pd(k.wax + i));
-        ayn = _mm512_mask_add_pd(ayn, wm, ayn, _mm512_loadu_pd(k.way + i));
-        aln = _mm512_mask_add_pd(aln, wm, aln, _mm512_loadu_pd(k.wal + i));
-      }
       const __m512d ax0 = _mm512_loadu_pd(k.ax + i), ay0 = _mm512_loadu_pd(k.ay + i);
       const __m512d al0 = _mm512_loadu_pd(k.al + i);
       _mm512_mask_storeu_pd(k.ax + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(axn), _mm512_castpd_si512(ax0)), axn);
       _mm512_mask_storeu_pd(k.ay + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(ayn), _mm512_castpd_si512(ay0)), ayn);
       _mm512_mask_storeu_pd(k.al + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(aln), _mm512_castpd_si512(al0)), aln);
       // sums of the touched lanes zeroed for the next step; touched cleared; the flag
-      // "accelerations set" on exactly the touched lanes and the band's awake lanes (no lane
-      // is a candidate), the band's flag kept
+      // "accelerations set" on exactly the touched lanes (no lane is a candidate)
       const __mmask8 touched = _mm512_test_epi64_mask(
           _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(t))), _mm512_set1_epi64(0xff));
       _mm512_mask_storeu_pd(k.sfx + i, touched, zero);
       _mm512_mask_storeu_pd(k.sfy + i, touched, zero);
       _mm512_mask_storeu_pd(k.sq + i, touched, zero);
-      // (a sleeper is never touched; its flags are its band flag only, as sleeping.cc lets no
-      // grain with "accelerations set" sleep: kept as they are)
-      const std::uint64_t nf =
-          wf ? wf | (((t * 0xff) | awake_wf) & (kOnes * k.accel_bit)) : t * k.accel_bit;
+      // (a sleeper is never touched and has no flag, as sleeping.cc lets no grain with
+      // "accelerations set" sleep)
+      const std::uint64_t nf = t * k.accel_bit;
       const std::uint64_t nt = 0;
       std::memcpy(k.flags + i, &nf, 8);
       std::memcpy(k.touched + i, &nt, 8);

@@ -51,12 +51,6 @@ struct PlainKick {
   double gx, gy;
   std::uint8_t candidate_bit, accel_bit;
   PeriodicBox box;
-  /// per grain flag: in reach of the co-moving window's band (a single bit, or 0: no window),
-  /// whose pull (window_forces) the kick adds: wax, way, wal
-  std::uint8_t window_bit = 0;
-  const double* wax = nullptr;
-  const double* way = nullptr;
-  const double* wal = nullptr;
 };
 
 /// @brief From row i on, in groups of eight, what DemSystem::finish_impl does: the second

@@ -24,8 +24,6 @@ bool DemSystem::rebuild_due(double max_d2, double intruder_disp, bool fresh) con
   if (fresh) return false;
   // a sleeper woke: its pairs with other sleepers must be listed before it moves again
   if (__atomic_load_n(&wake_pending_, __ATOMIC_RELAXED)) return true;
-  // the co-moving window matches grains to sites at fixed steps (comoving_window.cc)
-  if (window_.width > 0 && steps_ >= window_.next_match) return true;
   const double md = std::sqrt(max_d2) + build_round_ + growth_since_build_;
   return 2.0 * md > skin_ || intruder_disp + md > skin_;
 }
@@ -60,7 +58,6 @@ long long DemSystem::run_segment(long long m) {
     step_boundaries();
     advance_clock(last, idisp);
     full_history_check_ = false;
-    if (window_.width > 0) window_forces(steps_);  // the band's pull, before the kicks
     d2 = 0;
     for (int c = 0; c < chunks(); ++c) {
       const int lo = c * kChunkRows;
@@ -237,7 +234,6 @@ long long DemSystem::run_segment_team(long long m) {
     barrier.wait([&] {
       rebuild = rebuild_due(was_drifted ? 0.0 : largest_d2(), idisp, was_drifted);
       done = rebuild;
-      if (!done && window_.width > 0) window_forces(steps_ + 1);  // the first kick's band pull
     });
     using Clock = std::chrono::steady_clock;
     Clock::duration busy{0};
@@ -277,7 +273,6 @@ long long DemSystem::run_segment_team(long long m) {
         } else if (rebuild_due(largest_d2(), idisp, false)) {
           done = rebuild = true;
         }
-        if (!done && window_.width > 0) window_forces(steps_ + 1);  // the next kick's
       });
     }
     slot[t].busy = std::chrono::duration<double>(busy).count();

@@ -64,17 +64,10 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   // others one by one, a group of eight at a time.
   const bool simd = kMode != Kick::first && detail::avx512_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
-  // grains the vector kick leaves to the loop below: the intruder's candidates; the grains in
-  // reach of the co-moving window's band get its pull (window_forces, before the kicks) in
-  // either loop
-  constexpr std::uint8_t kGeneral = kCandidate | kWindow;
-  const double* wax = window_.acc_x.data();
-  const double* way = window_.acc_y.data();
-  const double* wal = window_.acc_w.data();
   detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
                           dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
                           sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
-                          kCandidate, kAccelSet, box, kWindow, wax, way, wal};
+                          kCandidate, kAccelSet, box};
   for (int i = lo; i < hi;) {
     if (simd) {
       const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);
@@ -88,7 +81,7 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
     if (dormant && dormant[i]) continue;  // asleep: the kick leaves its bits (sleeping.cc)
     double axn, ayn, aln;
     const std::uint8_t fl = flags[i];
-    if (!touched[i] && !(fl & kGeneral)) {
+    if (!touched[i] && !(fl & kCandidate)) {
       axn = ax0;
       ayn = ay0;
       aln = al0;
@@ -135,11 +128,6 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
     axn = fx * inv_m[i] + gx;
     ayn = fy * inv_m[i] + gy;
     aln = tq * inv_i[i];
-    if (fl & kWindow) {
-      axn += wax[i];
-      ayn += way[i];
-      aln += wal[i];
-    }
     ax[i] = axn;
     ay[i] = ayn;
     al[i] = aln;

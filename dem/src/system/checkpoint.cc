@@ -12,7 +12,7 @@ namespace grainlift::dem {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'C', 'K', 'P'};
-constexpr std::uint32_t kFormat = 2;  // 2: the co-moving window
+constexpr std::uint32_t kFormat = 3;  // 3: without the co-moving window's fields
 
 std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
   std::uint64_t h = 1469598103934665603ULL;
@@ -138,21 +138,6 @@ void put_system(Writer& w, const SystemSnapshot& s) {
   w.put(s.sleep_grain_steps);
   w.put(s.wake_builds);
   w.put(s.woken);
-  w.put(s.window_x0);
-  w.put(s.window_step0);
-  w.put(s.window_next_match);
-  w.put_vector(s.window_site_x);
-  w.put_vector(s.window_site_y);
-  w.put_vector(s.window_target);
-  w.put_vector(s.window_image_x);
-  w.put_vector(s.window_image_y);
-  for (const auto* v : {&s.window_off_x, &s.window_off_y, &s.window_vel_x, &s.window_vel_y}) {
-    w.put_vector(*v);
-  }
-  w.put_vector(s.window_layer);
-  w.put(s.window_match_step);
-  w.put(s.window_builds);
-  for (double v : {s.window_band_grains, s.window_matched_fraction, s.window_core_rms}) w.put(v);
 }
 
 SystemSnapshot get_system(Reader& r) {
@@ -192,23 +177,6 @@ SystemSnapshot get_system(Reader& r) {
   s.sleep_grain_steps = r.get<double>();
   s.wake_builds = r.get<std::int32_t>();
   s.woken = r.get<std::int64_t>();
-  s.window_x0 = r.get<double>();
-  s.window_step0 = r.get<std::int64_t>();
-  s.window_next_match = r.get<std::int64_t>();
-  s.window_site_x = r.get_vector<double>();
-  s.window_site_y = r.get_vector<double>();
-  s.window_target = r.get_vector<std::int32_t>();
-  s.window_image_x = r.get_vector<std::int32_t>();
-  s.window_image_y = r.get_vector<std::int32_t>();
-  for (auto* v : {&s.window_off_x, &s.window_off_y, &s.window_vel_x, &s.window_vel_y}) {
-    *v = r.get_vector<double>();
-  }
-  s.window_layer = r.get_vector<std::int32_t>();
-  s.window_match_step = r.get<std::int64_t>();
-  s.window_builds = r.get<std::int64_t>();
-  for (double* v : {&s.window_band_grains, &s.window_matched_fraction, &s.window_core_rms}) {
-    *v = r.get<double>();
-  }
   // sizes that must agree (the restore indexes with them)
   const std::size_t ng = s.grains.size(), nb = ng + s.frozen.size();
   if (s.ax.size() != ng || s.ay.size() != ng || s.alpha.size() != ng) {
@@ -230,22 +198,6 @@ SystemSnapshot get_system(Reader& r) {
   }
   for (std::int32_t g : s.ic_grain) {
     if (g < 0 || std::size_t(g) >= ng) throw CheckpointError("corrupt checkpoint: no such grain");
-  }
-  const std::size_t ns = s.window_site_x.size();
-  if (ns != 0 && (ns != ng || s.window_site_y.size() != ng || s.window_target.size() != ng ||
-                  s.window_image_x.size() != ng || s.window_image_y.size() != ng ||
-                  s.window_layer.size() != ng)) {
-    throw CheckpointError("corrupt checkpoint: the window's sites of another number of grains");
-  }
-  const std::size_t nl = s.window_off_x.size();
-  if (s.window_off_y.size() != nl || s.window_vel_x.size() != nl || s.window_vel_y.size() != nl) {
-    throw CheckpointError("corrupt checkpoint: the window's layers of unequal lengths");
-  }
-  for (std::int32_t l : s.window_layer) {
-    if (l < 0 || std::size_t(l) >= nl) throw CheckpointError("corrupt checkpoint: no such layer");
-  }
-  for (std::int32_t t : s.window_target) {
-    if (t < -1 || std::size_t(t + 1) > ns) throw CheckpointError("corrupt checkpoint: no such site");
   }
   return s;
 }

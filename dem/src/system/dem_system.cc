@@ -57,10 +57,6 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   touched_.assign(static_cast<std::size_t>(n_grains_), 0);
   // accelerations are 0 now, not the no-force values: mark them all as "set"
   grain_flags_.assign(static_cast<std::size_t>(n_grains_), kAccelSet);
-  // the co-moving window keeps its sites only for a bed of the same number of grains
-  window_.flagged.clear();
-  if (window_.site_x.size() != static_cast<std::size_t>(n_grains_)) window_ = Window{};
-  else std::fill(window_.target.begin(), window_.target.end(), -1);
   double rmax = 0;
   for (int i = 0; i < n_total_; ++i) {
     const bool is_grain = i < n_grains_;
@@ -255,7 +251,6 @@ void DemSystem::prepare() {
   for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_);
   full_history_check_ = false;
   max_overlap_ = max_ov;
-  if (window_.width > 0) window_forces(steps_);
   finish_rows(0, n_grains_, Kick::first, nullptr);
   drifted_ = false;
   primed_ = true;

@@ -72,26 +72,6 @@ SystemSnapshot DemSystem::snapshot() const {
   s.sleep_grain_steps = sleep_grain_steps_;
   s.wake_builds = wake_builds_;
   s.woken = woken_;
-  if (window_.width > 0) {
-    s.window_x0 = window_.x0;
-    s.window_step0 = window_.step0;
-    s.window_next_match = window_.next_match;
-    s.window_site_x = window_.site_x;
-    s.window_site_y = window_.site_y;
-    s.window_target.assign(window_.target.begin(), window_.target.end());
-    s.window_image_x = window_.image_x;
-    s.window_image_y = window_.image_y;
-    s.window_off_x = window_.off_x;
-    s.window_off_y = window_.off_y;
-    s.window_vel_x = window_.vel_x;
-    s.window_vel_y = window_.vel_y;
-    s.window_layer = window_.layer;
-    s.window_match_step = window_.match_step;
-    s.window_builds = window_.sums.builds;
-    s.window_band_grains = window_.sums.band_grains;
-    s.window_matched_fraction = window_.sums.matched_fraction;
-    s.window_core_rms = window_.sums.core_rms;
-  }
   return s;
 }
 
@@ -100,25 +80,7 @@ void DemSystem::restore(const SystemSnapshot& s) {
     throw ConfigError(std::string("the checkpoint was taken ") + (s.has_lid ? "with" : "without") +
                       " a pressure lid, this system has " + (lid_ ? "one" : "none"));
   }
-  const bool window = window_.width > 0;
-  if (window != !s.window_site_x.empty()) {
-    throw ConfigError(std::string("the checkpoint was taken ") + (window ? "without" : "with") +
-                      " the co-moving window, this system has " + (window ? "it" : "none"));
-  }
   set_bodies(s.grains, s.frozen);
-  if (window) {
-    // the band's start and the prepared bed's sites, not the checkpoint's positions
-    window_.x0 = s.window_x0;
-    window_.step0 = s.window_step0;
-    window_.site_x = s.window_site_x;
-    window_.site_y = s.window_site_y;
-    index_window_sites();
-    window_.image_x = s.window_image_x;
-    window_.image_y = s.window_image_y;
-    // no matching at this build (the run being resumed did not match here): the checkpoint's
-    // sites are put back below
-    window_.next_match = INT64_MAX;
-  }
   for (std::size_t j = 0; j < s.frozen.size(); ++j) {
     // frozen disks carry their velocity into the contact law (the lid's)
     p_.vx[n_grains_ + j] = s.frozen[j].vx;
@@ -152,21 +114,6 @@ void DemSystem::restore(const SystemSnapshot& s) {
     }
     ic_.sx[slot] = s.ic_sx[b];
     ic_.sy[slot] = s.ic_sy[b];
-  }
-  if (window) {
-    // the sites and layers of the checkpoint's last matching (this build did not match)
-    std::copy(s.window_target.begin(), s.window_target.end(), window_.target.begin());
-    window_.next_match = s.window_next_match;
-    window_.off_x = s.window_off_x;
-    window_.off_y = s.window_off_y;
-    window_.vel_x = s.window_vel_x;
-    window_.vel_y = s.window_vel_y;
-    window_.layer = s.window_layer;
-    window_.match_step = s.window_match_step;
-    window_.sums.builds = s.window_builds;
-    window_.sums.band_grains = s.window_band_grains;
-    window_.sums.matched_fraction = s.window_matched_fraction;
-    window_.sums.core_rms = s.window_core_rms;
   }
   max_overlap_ = s.max_overlap;
   builds_ = s.builds;

@@ -102,9 +102,6 @@ struct DemConfig {
   /// m/s: grains at most this fast, at rest and far from the intruder, sleep
   /// (DemSystem::set_sleep); 0: only grains exactly at rest; < 0: no sleeping
   double sleep_speed = 0;
-  /// mean grain diameters: the co-moving window's band (DemSystem::set_window), half a box
-  /// length from the intruder, that pulls the grains back onto the prepared bed's sites; 0: off
-  double window_width = 0;
 
   // ---- added by the DEM engine (defaults keep the meaning of the fields above)
   /// m/s, impact speed of the binary collision time used for the dt check;
@@ -112,11 +109,6 @@ struct DemConfig {
   double dt_check_velocity = 0;
   /// A run fails (RunFailure) when an overlap exceeds this fraction of the smaller diameter.
   double max_overlap_fraction = 0.1;
-  /// The window's pull relaxes a grain onto its site at the rate window_rate |V| / width (1/s):
-  /// the band passes a grain in width / |V|, window_rate relaxation times.
-  double window_rate = 50;
-  /// The window gives a grain a site within this many mean grain diameters.
-  double window_match_radius = 1;
 };
 
 /// Progress report: fraction done in [0, 1] and a short phase name ("packing", "run").

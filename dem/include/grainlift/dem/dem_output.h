@@ -68,13 +68,6 @@ struct DemOutput {
   double sleeping_fraction = 0;
   long long sleep_wakes = 0;
   int sleep_wake_builds = 0;
-  /// the co-moving window (DemConfig::window_width > 0): averages over its matchings of the
-  /// grains in its band, the fraction of them with a site, and the rms distance of those in
-  /// the band's middle half to their sites (mean grain diameters)
-  bool window = false;
-  double window_band_grains = 0, window_matched_fraction = 0, window_core_rms = 0;
-  double window_bed_slide = 0;  ///< mean grain diameters the bed slid along x (window on)
-  double window_band_contacts = 0;  ///< contacts per grain inside the band at the end (window on)
   bool stopped_early = false;
   /// the prepared bed's structure at rest (bed_fingerprint.h); gap_fraction empty when not
   /// measured (a run resumed from a checkpoint)

@@ -71,7 +71,6 @@ struct DemSection {
   double checkpoint_minutes{};  ///< wall time between checkpoints (0: only when interrupted)
   long long checkpoint_steps{};  ///< steps between checkpoints (0: by time only)
   double sleep_speed{};      ///< fraction of |V0| below which a grain may sleep
-  double window_width{};    ///< d, the co-moving window's band (0: off)
   double relax_ke{};       ///< J per grain
   std::string preparation;  ///< "radius_growth" | "wall_compression" (packing.h)
   double compression_speed{};  ///< m/s, the top wall's speed in wall_compression

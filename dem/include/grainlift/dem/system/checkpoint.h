@@ -43,17 +43,6 @@ struct SystemSnapshot {
   double sleep_grain_steps = 0;
   std::int32_t wake_builds = 0;
   std::int64_t woken = 0;
-  /// the co-moving window (empty sites: off): its band's start, the prepared bed's sites, each
-  /// grain's site of the last build and the sums of DemSystem::window_stats
-  double window_x0 = 0;
-  std::int64_t window_step0 = 0, window_next_match = 0;
-  std::vector<double> window_site_x, window_site_y;
-  std::vector<std::int32_t> window_target, window_image_x, window_image_y;
-  std::vector<double> window_off_x, window_off_y, window_vel_x, window_vel_y;  ///< per layer
-  std::vector<std::int32_t> window_layer;                                      ///< per grain
-  std::int64_t window_match_step = 0;
-  std::int64_t window_builds = 0;
-  double window_band_grains = 0, window_matched_fraction = 0, window_core_rms = 0;
 };
 
 /// A run at the end of step @c step: what run_simulation needs to go on from there.

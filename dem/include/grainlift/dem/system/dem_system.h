@@ -150,36 +150,6 @@ class DemSystem {
   int wake_builds() const { return wake_builds_; }
   /// Grains woken by contact so far.
   long long woken() const { return woken_; }
-  /// @brief The co-moving window (comoving_window.cc): a band @p width m wide across the box,
-  /// centred half a box length (x) from the intruder and moving with it, pulls the grains in it
-  /// onto the sites of the bed as it is at this call (the prepared bed), so that the intruder
-  /// meets that bed again instead of its own wake coming round the periodic box. No grain is
-  /// added or removed. Every ~0.1 match radius of the band's travel each grain in its reach is
-  /// given the nearest free site within @p match_radius m (greedy, closest pairs first; a grain
-  /// without one, as in the prepared bed's hole where the intruder started, is left free), the
-  /// sites carried with the bed where it has slid (each 2 match radii high layer's median
-  /// displacement and velocity over its grains outside the band). Inside the band a grain
-  /// feels a = -s rate^2 (x - site) - 2 sqrt(s) rate (v - v_layer) (alpha = -2 sqrt(s) rate
-  /// omega), s = (1 - u^2)^2, u in (-1, 1) across the band (zero at its edges), less its share
-  /// (by s) of its layer's total: the band restores the arrangement of the grains and pushes no
-  /// layer as a whole. Needs the intruder (set_intruder first), moving along x in a box
-  /// periodic in x; @p width 0 turns it off (no grain is ever flagged: the same bits as
-  /// without the call).
-  void set_window(double width, double rate, double match_radius);
-  /// Averages over the window's matchings (every ~0.1 match radius of its travel): grains in
-  /// the band, the fraction of them given a site, and the rms distance (m) to their sites of
-  /// those in the band's middle half (how well the band restores the bed); and how far the bed has slid along x since
-  /// set_window (m, the layers' median displacements at the last matching, averaged).
-  struct WindowStats {
-    long long builds = 0;
-    double band_grains = 0, matched_fraction = 0, core_rms = 0;
-    double slide = 0;
-  };
-  WindowStats window_stats() const;
-  /// The mean number of grains each grain inside the window's band touches now (0 without
-  /// the window or with an empty band): about 0.1 in a dilute bed, 3 or more in a contact
-  /// network, where the band's springs stiffen the bed (docs/performance.md, Skips).
-  double window_band_contacts() const;
   /// @brief Extra viscous drag on grains, dv/dt = -rate v (packing preparation only; 1/s).
   void set_background_damping(double rate) { damping_rate_ = rate; }
   /// @brief Multiply every grain radius by factor (soft compression by radius growth).
@@ -316,18 +286,6 @@ class DemSystem {
   /// Sleeping grains (set_sleep): choose the sleepers from the new, full list and remove
   /// their pairs from it (sleeping.cc). Called by build_lists() right after the list build.
   void update_sleep();
-  /// The co-moving window (set_window): flag the grains in reach of the band and give each a
-  /// site (comoving_window.cc). Called by build_lists() before update_sleep().
-  void update_window();
-  /// The co-moving window's per-grain arrays sized and its sites sorted into bins.
-  void index_window_sites();
-  /// The co-moving window's pull on the grains in its band for the kick of step @p kick_step
-  /// (positions and velocities as the kick finds them), into acc_x, acc_y, acc_w: each
-  /// grain's pull (window_band.h) less its share, by its ramp, of its layer's total, so that
-  /// the band pushes no layer as a whole (serial, in grain order: the same bits on any team).
-  void window_forces(std::int64_t kick_step);
-  /// The band's centre (m, x) at step @p step.
-  double window_centre(std::int64_t step) const;
   /// Wake the sleepers among the grains of touching pair (i, j) (pair loop; any thread).
   void wake(int i, int j);
   /// Intruder radii beyond its surface within which no grain sleeps, and the list hops over
@@ -445,59 +403,11 @@ class DemSystem {
   /// per grain: kCandidate if ic_slot_ >= 0; kAccelSet unless ax, ay, alpha hold exactly the
   /// accelerations of a grain without any force (then the final kick need not store them)
   std::vector<std::uint8_t> grain_flags_;
-  /// kWindow: within reach of the co-moving window's band (update_window)
-  static constexpr std::uint8_t kCandidate = 1, kAccelSet = 2, kWindow = 4;
+  static constexpr std::uint8_t kCandidate = 1, kAccelSet = 2;
   /// per grain: 1 if a listed pair of the grain touches at this step (set by the pair loop,
   /// cleared by the final kick; the kick of a grain without contact reads no pair force)
   std::vector<std::uint8_t> touched_;
   double build_round_ = 0;  ///< m, bound on the float rounding of x_build, y_build
-  // ---- the co-moving window (set_window, comoving_window.cc)
-  struct Window {
-    double width = 0;          ///< m; 0: off
-    double rate = 0;           ///< 1/s
-    double match_radius = 0;   ///< m
-    double x0 = 0;             ///< m, the band's centre at step0
-    double vx = 0;             ///< m/s
-    std::int64_t step0 = 0;
-    /// Grains are matched to sites at the first list build at or after step next_match, then
-    /// every match_every steps (a build is forced there: rebuild_due). The matching happens at
-    /// fixed steps, not at every build, because when the lists are built depends on history
-    /// (a resumed run, a woken sleeper) while the results must not.
-    std::int64_t match_every = 1, next_match = 0;
-    std::vector<double> site_x, site_y;  ///< the prepared bed's positions (one site per grain)
-    /// The bed may slide along the box (the intruder drags it, the walls hold it back, the
-    /// layers near the walls less than the middle): the sites move with it. At each matching
-    /// the box is cut into layers along y (bin_height) and each layer's mean displacement since
-    /// set_window (each grain from its own starting position, unwrapped by image counts) and
-    /// velocity are taken as medians over its grains outside the band's reach; until
-    /// the next matching a grain's site is at site + off + vel (t - t_match) of its layer, and
-    /// the drag acts on v - vel. Not the band's own grains: a band that follows the grains it
-    /// moves carries them along at whatever speed they have, and runs away.
-    std::vector<std::int32_t> image_x, image_y;  ///< per grain: box lengths crossed (+: forward)
-    std::vector<double> last_x, last_y;          ///< positions at the last build (wraps)
-    double bin_height = 0;
-    std::vector<double> off_x, off_y, vel_x, vel_y;  ///< per layer
-    std::vector<std::int32_t> layer;                 ///< per grain: its layer at the matching
-    std::int64_t match_step = 0;
-    std::vector<double> scratch;  ///< one layer's values (medians)
-    /// per grain: the pull of the kick to come (window_forces; 0 outside the band)
-    std::vector<double> acc_x, acc_y, acc_w;
-    std::vector<double> layer_sum;  ///< scratch of window_forces: per layer m s, m ax, m ay
-    std::vector<double> shift_x, shift_y;  ///< scratch of window_forces: per layer, the sites' shift
-    std::vector<double> weight;     ///< scratch of window_forces: per grain, its ramp s (0 outside)
-    std::vector<int> layer_first, layer_grain, layer_fill;  ///< grains outside the band by layer
-    std::vector<int> target;   ///< per grain: its site, or -1
-    std::vector<int> flagged;  ///< grains flagged kWindow at the last build
-    std::vector<int> bin_first, bin_site;  ///< sites by x bins of >= match_radius
-    double bin_width = 0;
-    std::vector<std::uint8_t> taken;  ///< scratch: per site, given at this build
-    struct Candidate {
-      double d2;
-      int grain, site;
-    };
-    std::vector<Candidate> candidates;  ///< scratch
-    WindowStats sums;  ///< sums over matchings (averaged by window_stats())
-  } window_;
   // ---- sleeping grains (set_sleep, sleeping.cc)
   double sleep_speed_ = -1;   ///< m/s; < 0: off
   bool sleep_active_ = false;  ///< some body is dormant in the current list
