@@ -63,14 +63,11 @@ void for_each_near_pair(const PeriodicBox& box, const Bodies& b, double reach, F
   }
 }
 
-}  // namespace
-
-BedFingerprint bed_fingerprint(const DemConfig& c, const PackedBed& bed,
-                               const std::vector<Disk>& walls) {
-  BedFingerprint fp;
+/// Contacts per grain, rattlers, fabric and the histogram of each grain's nearest gap (to a
+/// grain or a wall disk) into @p fp.
+void contact_statistics(const DemConfig& c, const PackedBed& bed, const std::vector<Disk>& walls,
+                        const PeriodicBox& box, BedFingerprint& fp) {
   const std::size_t n = bed.r.size();
-  if (n == 0) return fp;
-  const PeriodicBox box = box_of(c);
   const double d = c.grain_diameter;
   Bodies b;
   b.x = bed.x;
@@ -127,8 +124,15 @@ BedFingerprint bed_fingerprint(const DemConfig& c, const PackedBed& bed,
   }
   fp.mean_gap = gap_sum / static_cast<double>(n);
 
-  // Area-fraction profiles: grain area by centre over the area open to grains (inside the
-  // grains' region, outside the intruder), the latter counted on a grid of points.
+}
+
+/// Area-fraction profiles into @p fp: grain area by centre over the area open to grains
+/// (inside the grains' region, outside the intruder, counted on a grid of points), in bands of
+/// one grain diameter across y and in rings round the intruder.
+void area_fraction_profiles(const DemConfig& c, const PackedBed& bed, const PeriodicBox& box,
+                            BedFingerprint& fp) {
+  const std::size_t n = bed.r.size();
+  const double d = c.grain_diameter;
   const double y0 = c.ymin + (c.wall_bottom ? d : 0.0), y1 = c.ymax - (c.wall_top ? d : 0.0);
   const double x0 = c.xmin + (c.wall_left ? d : 0.0), x1 = c.xmax - (c.wall_right ? d : 0.0);
   const double ix = c.intruder_position[0], iy = c.intruder_position[1];
@@ -186,6 +190,17 @@ BedFingerprint bed_fingerprint(const DemConfig& c, const PackedBed& bed,
                                                     : 0.0);
     }
   }
+}
+
+}  // namespace
+
+BedFingerprint bed_fingerprint(const DemConfig& c, const PackedBed& bed,
+                               const std::vector<Disk>& walls) {
+  BedFingerprint fp;
+  if (bed.r.empty()) return fp;
+  const PeriodicBox box = box_of(c);
+  contact_statistics(c, bed, walls, box, fp);
+  area_fraction_profiles(c, bed, box, fp);
   return fp;
 }
 

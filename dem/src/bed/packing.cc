@@ -22,13 +22,13 @@
 
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/system/system_setup.h"
+#include "bed/packing_cache.h"
 
 namespace grainlift::dem {
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '1'};
 constexpr double kInsertPhi = 0.3;       // area fraction of the reduced-radius insertion
 constexpr double kGrowthPerStep = 2e-5;  // radius growth per step, in mean diameters
 constexpr long kMaxRelaxSteps = 400000;
@@ -238,58 +238,58 @@ void hash_value(std::uint64_t& h, T v) {
   hash_bytes(h, &v, sizeof(v));
 }
 
-bool load_cache(const std::string& path, std::uint64_t hash, PackedBed& bed) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  char magic[8];
-  std::uint64_t h = 0;
-  std::int64_t n = 0;
-  double phi = 0;
-  in.read(magic, 8);
-  in.read(reinterpret_cast<char*>(&h), sizeof h);
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  in.read(reinterpret_cast<char*>(&phi), sizeof phi);
-  if (!in || std::memcmp(magic, kMagic, 8) != 0 || h != hash || n < 0 || n > (1ll << 32)) {
-    return false;
+/// Soft compression: frictionless radius growth by the factor @p growth with drag (rate
+/// @p damping), then the exact radii @p r put back and the bed relaxed without friction;
+/// the grains' centres into @p x, @p y. Reports progress up to 0.6.
+void grow_radii(const DemConfig& c, DemSystem& s, const std::vector<Disk>& walls,
+                const std::vector<double>& r, double growth, double damping,
+                const std::function<void(double)>& report, std::vector<double>& x,
+                std::vector<double>& y) {
+  s.set_friction(0, 0);
+  s.set_background_damping(damping);
+  const long steps =
+      std::max(1000L, static_cast<long>(std::ceil((growth - 1.0) * 0.5 / kGrowthPerStep)));
+  const double f = std::pow(growth, 1.0 / static_cast<double>(steps));
+  for (long k = 0; k < steps; ++k) {
+    s.scale_grain_radii(f);
+    s.step();
+    if (k % std::max(1L, steps / 20) == 0) report(0.6 * k / steps);
   }
-  bed.x.resize(n);
-  bed.y.resize(n);
-  bed.r.resize(n);
-  for (auto* v : {&bed.x, &bed.y, &bed.r}) {
-    in.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * sizeof(double)));
-  }
-  if (!in) return false;
-  bed.area_fraction = phi;
-  bed.from_cache = true;
-  return true;
+  std::vector<double> rr;
+  read_back(s, x, y, rr);
+  s.set_bodies(grain_disks(c, x, y, r), walls);  // exact final radii
+  s.set_friction(0, 0);
+  relax(s, frictionless_relax_ke(c), damping);
+  s.set_friction(c.contact.friction, c.contact.intruder_friction);
 }
 
-void save_cache(const std::string& path, std::uint64_t hash, const PackedBed& bed) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(fs::path(path).parent_path(), ec);
-  std::random_device rd;
-  const std::string tmp = path + ".tmp." + std::to_string(rd());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return;  // the cache is an optimisation: a read-only directory is not an error
-    const std::int64_t n = static_cast<std::int64_t>(bed.r.size());
-    out.write(kMagic, 8);
-    out.write(reinterpret_cast<const char*>(&hash), sizeof hash);
-    out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    out.write(reinterpret_cast<const char*>(&bed.area_fraction), sizeof bed.area_fraction);
-    for (const auto* v : {&bed.x, &bed.y, &bed.r}) {
-      out.write(reinterpret_cast<const char*>(v->data()),
-                static_cast<std::streamsize>(n * sizeof(double)));
-    }
-    if (!out) {
-      out.close();
-      fs::remove(tmp, ec);
-      return;
+/// Random removal of grains (a shuffled order) until their total area is at most
+/// @p target_area (m^2); the kept grains in their order into @p x, @p y, @p r.
+void remove_down_to(double target_area, std::mt19937_64& rng,
+                    std::vector<double>& x, std::vector<double>& y, std::vector<double>& r) {
+  std::vector<std::size_t> order(r.size());
+  std::iota(order.begin(), order.end(), 0);
+  for (std::size_t k = order.size(); k > 1; --k) {
+    std::swap(order[k - 1], order[static_cast<std::size_t>(uniform01(rng) * k) % k]);
+  }
+  double total = 0;
+  for (double v : r) total += kPi * v * v;
+  std::vector<char> keep(r.size(), 1);
+  for (std::size_t k = 0; k < order.size() && total > target_area; ++k) {
+    keep[order[k]] = 0;
+    total -= kPi * r[order[k]] * r[order[k]];
+  }
+  std::vector<double> x2, y2, r2;
+  for (std::size_t n = 0; n < r.size(); ++n) {
+    if (keep[n]) {
+      x2.push_back(x[n]);
+      y2.push_back(y[n]);
+      r2.push_back(r[n]);
     }
   }
-  fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
+  x = std::move(x2);
+  y = std::move(y2);
+  r = std::move(r2);
 }
 
 }  // namespace
@@ -383,7 +383,7 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   const std::string cache = packing_cache_path(c);
   const std::uint64_t hash = packing_hash(c);
   PackedBed bed;
-  if (!cache.empty() && load_cache(cache, hash, bed)) return bed;
+  if (!cache.empty() && detail::load_packing(cache, hash, bed)) return bed;
 
   const double phi = c.area_fraction;
   if (!(phi > 0 && phi <= 0.9)) {
@@ -437,52 +437,15 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
     relax(s, frictionless_relax_ke(c), damping);
     s.set_friction(c.contact.friction, c.contact.intruder_friction);
   } else if (!direct) {
-    // Soft compression: frictionless radius growth from shrink to 1 with drag.
-    s.set_friction(0, 0);
-    s.set_background_damping(damping);
-    const double growth = 1.0 / shrink;
-    const long steps =
-        std::max(1000L, static_cast<long>(std::ceil((growth - 1.0) * 0.5 / kGrowthPerStep)));
-    const double f = std::pow(growth, 1.0 / static_cast<double>(steps));
-    for (long k = 0; k < steps; ++k) {
-      s.scale_grain_radii(f);
-      s.step();
-      if (k % std::max(1L, steps / 20) == 0) report(0.6 * k / steps);
-    }
-    std::vector<double> rr;
-    read_back(s, x, y, rr);
-    s.set_bodies(grain_disks(c, x, y, r), walls);  // exact final radii
-    s.set_friction(0, 0);
-    relax(s, frictionless_relax_ke(c), damping);
-    s.set_friction(c.contact.friction, c.contact.intruder_friction);
+    grow_radii(c, s, walls, r, 1.0 / shrink, damping, report, x, y);
   }
   report(0.7);
   relax(s, c.relax_ke_per_grain, damping);
   read_back(s, x, y, r);
 
   if (phi < phi_pack) {
-    // random removal down to the target area fraction
-    std::vector<std::size_t> order(r.size());
-    std::iota(order.begin(), order.end(), 0);
-    for (std::size_t k = order.size(); k > 1; --k) {
-      std::swap(order[k - 1], order[static_cast<std::size_t>(uniform01(rng) * k) % k]);
-    }
-    double total = 0;
-    for (double v : r) total += kPi * v * v;
-    std::vector<char> keep(r.size(), 1);
-    for (std::size_t k = 0; k < order.size() && total > phi * area; ++k) {
-      keep[order[k]] = 0;
-      total -= kPi * r[order[k]] * r[order[k]];
-    }
-    std::vector<double> x2, y2, r2;
-    for (std::size_t n = 0; n < r.size(); ++n) {
-      if (keep[n]) {
-        x2.push_back(x[n]);
-        y2.push_back(y[n]);
-        r2.push_back(r[n]);
-      }
-    }
-    s.set_bodies(grain_disks(c, x2, y2, r2), walls);
+    remove_down_to(phi * area, rng, x, y, r);
+    s.set_bodies(grain_disks(c, x, y, r), walls);
     relax(s, c.relax_ke_per_grain, damping);
     read_back(s, x, y, r);
   }
@@ -495,7 +458,7 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   double total = 0;
   for (double v : bed.r) total += kPi * v * v;
   bed.area_fraction = total / area;
-  if (!cache.empty()) save_cache(cache, hash, bed);
+  if (!cache.empty()) detail::save_packing(cache, hash, bed);
   report(1);
   return bed;
 }
