@@ -32,8 +32,33 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
   old_sy_.swap(sy);
   const int old_rows = n_mobile_;
   n_mobile_ = n_mobile;
+  const CellGrid grid = bin_disks(box, x, y, r, n_total, skin);
+  // ---- rows, per thread block
+  const int nt = std::max(1, threads);
+  thread_partner_.resize(nt);
+  thread_count_.resize(nt);
+  // rows [lo, hi) of thread t of nth
+  auto rows = [&](int t, int nth) {
+    const int lo = static_cast<int>(static_cast<std::int64_t>(n_mobile) * t / nth);
+    const int hi = static_cast<int>(static_cast<std::int64_t>(n_mobile) * (t + 1) / nth);
+    list_rows(box, grid, x, y, r, skin, t, lo, hi);
+  };
+  // one thread: no OpenMP region at all (a region started from a thread that is not OpenMP's,
+  // such as a --replicas worker, would bind that thread to the first place under OMP_PROC_BIND)
+  if (nt == 1) {
+    rows(0, 1);
+  } else {
+#pragma omp parallel num_threads(nt)
+    rows(omp_get_thread_num(), omp_get_num_threads());
+  }
+  concatenate_rows(n_mobile, nt);
+  carry_history(old_rows, nt);
+  build_reverse_index(n_total);
+}
 
-  // ---- cell grid covering all disks
+NeighborList::CellGrid NeighborList::bin_disks(const PeriodicBox& box, const double* x,
+                                               const double* y, const double* r, int n_total,
+                                               double skin) {
   double rmax = 0;
   double bxmin = box.xmin, bxmax = box.xmax, bymin = box.ymin, bymax = box.ymax;
   for (int i = 0; i < n_total; ++i) {
@@ -49,18 +74,22 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
   }
   const double cell = std::max(2.0 * rmax + skin, 1e-300);
   const double wx = bxmax - bxmin, wy = bymax - bymin;
-  const int ncx = std::max(1, std::min(4096, static_cast<int>(std::floor(wx / cell))));
-  const int ncy = std::max(1, std::min(4096, static_cast<int>(std::floor(wy / cell))));
-  const double hx = wx / ncx, hy = wy / ncy;
-  const int ncell = ncx * ncy;
+  CellGrid g;
+  g.xmin = bxmin;
+  g.ymin = bymin;
+  g.ncx = std::max(1, std::min(4096, static_cast<int>(std::floor(wx / cell))));
+  g.ncy = std::max(1, std::min(4096, static_cast<int>(std::floor(wy / cell))));
+  g.hx = wx / g.ncx;
+  g.hy = wy / g.ncy;
+  const int ncell = g.ncx * g.ncy;
   cell_start_.assign(static_cast<std::size_t>(ncell) + 1, 0);
   cell_of_.resize(n_total);
   for (int i = 0; i < n_total; ++i) {
-    int cx = static_cast<int>(std::floor((x[i] - bxmin) / hx));
-    int cy = static_cast<int>(std::floor((y[i] - bymin) / hy));
-    cx = std::min(std::max(cx, 0), ncx - 1);
-    cy = std::min(std::max(cy, 0), ncy - 1);
-    cell_of_[i] = cy * ncx + cx;
+    int cx = static_cast<int>(std::floor((x[i] - bxmin) / g.hx));
+    int cy = static_cast<int>(std::floor((y[i] - bymin) / g.hy));
+    cx = std::min(std::max(cx, 0), g.ncx - 1);
+    cy = std::min(std::max(cy, 0), g.ncy - 1);
+    cell_of_[i] = cy * g.ncx + cx;
     ++cell_start_[cell_of_[i] + 1];
   }
   for (int c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
@@ -68,86 +97,73 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
   // counting-sort fill (index order inside each cell)
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (int i = 0; i < n_total; ++i) cell_items_[cursor_[cell_of_[i]]++] = i;
+  return g;
+}
 
-  // ---- rows, per thread block
-  const int nt = std::max(1, threads);
-  thread_partner_.resize(nt);
-  thread_count_.resize(nt);
+void NeighborList::list_rows(const PeriodicBox& box, const CellGrid& g, const double* x,
+                             const double* y, const double* r, double skin, int t, int lo,
+                             int hi) {
+  const int ncx = g.ncx, ncy = g.ncy;
+  // local vectors (swapped in and out, keeping their capacity): the headers of neighbouring
+  // threads' vectors share a cache line, which every push_back would bounce between cores
+  std::vector<int> out;
+  std::vector<std::int64_t> counts;
+  out.swap(thread_partner_[t]);
+  counts.swap(thread_count_[t]);
+  out.clear();
+  counts.clear();
+  for (int i = lo; i < hi; ++i) {
+    const int c = cell_of_[i];
+    const int cx = c % ncx, cy = c / ncx;
+    const std::size_t row_begin = out.size();
+    for (int oy = -1; oy <= 1; ++oy) {
+      int ky = cy + oy;
+      if (ky < 0 || ky >= ncy) {
+        if (!box.periodic_y) continue;
+        ky = (ky + ncy) % ncy;
+      }
+      for (int ox = -1; ox <= 1; ++ox) {
+        int kx = cx + ox;
+        if (kx < 0 || kx >= ncx) {
+          if (!box.periodic_x) continue;
+          kx = (kx + ncx) % ncx;
+        }
+        const int k = ky * ncx + kx;
+        for (int s = cell_start_[k]; s < cell_start_[k + 1]; ++s) {
+          const int j = cell_items_[s];
+          if (j <= i) continue;
+          double dx = x[i] - x[j], dy = y[i] - y[j];
+          box.min_image(dx, dy);
+          const double cut = r[i] + r[j] + skin;
+          if (dx * dx + dy * dy < cut * cut) out.push_back(j);
+        }
+      }
+    }
+    // sort the row by j and drop duplicates (small grids visit a cell twice)
+    std::sort(out.begin() + row_begin, out.end());
+    out.erase(std::unique(out.begin() + row_begin, out.end()), out.end());
+    counts.push_back(static_cast<std::int64_t>(out.size() - row_begin));
+  }
+  out.swap(thread_partner_[t]);
+  counts.swap(thread_count_[t]);
+}
+
+void NeighborList::concatenate_rows(int n_mobile, int nt) {
   first.resize(static_cast<std::size_t>(n_mobile) + 1);
   first[0] = 0;
-  // rows [lo, hi) of thread t of nth
-  auto rows = [&](int t, int nth) {
-    const int lo = static_cast<int>(static_cast<std::int64_t>(n_mobile) * t / nth);
-    const int hi = static_cast<int>(static_cast<std::int64_t>(n_mobile) * (t + 1) / nth);
-    // local vectors (swapped in and out, keeping their capacity): the headers of neighbouring
-    // threads' vectors share a cache line, which every push_back would bounce between cores
-    std::vector<int> out;
-    std::vector<std::int64_t> counts;
-    out.swap(thread_partner_[t]);
-    counts.swap(thread_count_[t]);
-    out.clear();
-    counts.clear();
-    for (int i = lo; i < hi; ++i) {
-      const int c = cell_of_[i];
-      const int cx = c % ncx, cy = c / ncx;
-      const std::size_t row_begin = out.size();
-      for (int oy = -1; oy <= 1; ++oy) {
-        int ky = cy + oy;
-        if (ky < 0 || ky >= ncy) {
-          if (!box.periodic_y) continue;
-          ky = (ky + ncy) % ncy;
-        }
-        for (int ox = -1; ox <= 1; ++ox) {
-          int kx = cx + ox;
-          if (kx < 0 || kx >= ncx) {
-            if (!box.periodic_x) continue;
-            kx = (kx + ncx) % ncx;
-          }
-          const int k = ky * ncx + kx;
-          for (int s = cell_start_[k]; s < cell_start_[k + 1]; ++s) {
-            const int j = cell_items_[s];
-            if (j <= i) continue;
-            double dx = x[i] - x[j], dy = y[i] - y[j];
-            box.min_image(dx, dy);
-            const double cut = r[i] + r[j] + skin;
-            if (dx * dx + dy * dy < cut * cut) out.push_back(j);
-          }
-        }
-      }
-      // sort the row by j and drop duplicates (small grids visit a cell twice)
-      std::sort(out.begin() + row_begin, out.end());
-      out.erase(std::unique(out.begin() + row_begin, out.end()), out.end());
-      counts.push_back(static_cast<std::int64_t>(out.size() - row_begin));
-    }
-    out.swap(thread_partner_[t]);
-    counts.swap(thread_count_[t]);
-  };
-  // one thread: no OpenMP region at all (a region started from a thread that is not OpenMP's,
-  // such as a --replicas worker, would bind that thread to the first place under OMP_PROC_BIND)
-  if (nt == 1) {
-    rows(0, 1);
-  } else {
-#pragma omp parallel num_threads(nt)
-    rows(omp_get_thread_num(), omp_get_num_threads());
-  }
-  // concatenate in row order
-  {
-    int row = 0;
-    for (int t = 0; t < nt; ++t) {
-      for (std::int64_t c : thread_count_[t]) {
-        first[row + 1] = first[row] + c;
-        ++row;
-      }
+  int row = 0;
+  for (int t = 0; t < nt; ++t) {
+    for (std::int64_t c : thread_count_[t]) {
+      first[row + 1] = first[row] + c;
+      ++row;
     }
   }
   const std::size_t np = static_cast<std::size_t>(first[n_mobile]);
   partner.resize(np);
-  {
-    std::size_t pos = 0;
-    for (int t = 0; t < nt; ++t) {
-      std::copy(thread_partner_[t].begin(), thread_partner_[t].end(), partner.begin() + pos);
-      pos += thread_partner_[t].size();
-    }
+  std::size_t pos = 0;
+  for (int t = 0; t < nt; ++t) {
+    std::copy(thread_partner_[t].begin(), thread_partner_[t].end(), partner.begin() + pos);
+    pos += thread_partner_[t].size();
   }
   owner.resize(np);
   for (int i = 0; i < n_mobile; ++i) {
@@ -158,9 +174,10 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
   fx.assign(np, 0.0);
   fy.assign(np, 0.0);
   q.assign(np, 0.0);
+}
 
-  // ---- carry the history of surviving pairs over (rows sorted by j on both sides)
-  const int merge_rows = std::min(old_rows, n_mobile);
+void NeighborList::carry_history(int old_rows, int nt) {
+  const int merge_rows = std::min(old_rows, n_mobile_);
   auto merge_row = [&](int i) {
     std::int64_t a = old_first_[i];
     const std::int64_t ae = old_first_[i + 1];
@@ -178,8 +195,6 @@ void NeighborList::build(const PeriodicBox& box, const double* x, const double* 
 #pragma omp parallel for schedule(static) num_threads(nt)
     for (int i = 0; i < merge_rows; ++i) merge_row(i);
   }
-
-  build_reverse_index(n_total);
 }
 
 void NeighborList::build_reverse_index(int n_total) {

@@ -49,6 +49,97 @@ struct PairInputs {
     return kin;
   }
 };
+
+/// The stored forces of the listed pairs (null: not stored).
+struct PairForces {
+  double* fx = nullptr;
+  double* fy = nullptr;
+  double* q = nullptr;
+};
+
+/// A pair that is apart forgets its history (springs @p sx, @p sy) and its stored force. Only
+/// pairs that touched at the step before (@p before, sorted) can hold any: those that no
+/// longer touch (not in @p touching, sorted) are found by a merge of the two lists; after a
+/// list build (@p full_check) every pair of [k0, k1) is checked.
+void forget_apart_pairs(const std::int64_t* touching, std::size_t n_touching,
+                        const std::int64_t* before, std::size_t n_before, std::int64_t k0,
+                        std::int64_t k1, bool full_check, PairForces f, double* sx, double* sy) {
+  auto forget = [&](std::int64_t k) {
+    if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
+    if (f.fx && (f.fx[k] != 0.0 || f.fy[k] != 0.0 || f.q[k] != 0.0)) f.fx[k] = f.fy[k] = f.q[k] = 0;
+  };
+  if (full_check) {
+    std::size_t a = 0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+      if (a < n_touching && touching[a] == k) {
+        ++a;
+        continue;
+      }
+      forget(k);
+    }
+  } else {
+    std::size_t a = 0;
+    for (std::size_t b = 0; b < n_before; ++b) {
+      const std::int64_t k = before[b];
+      while (a < n_touching && touching[a] < k) ++a;
+      if (a < n_touching && touching[a] == k) continue;
+      forget(k);
+    }
+  }
+}
+
+/// The kinematics of the @p nb touching pairs @p kb into the batch @p cb (with their springs),
+/// or on the frictionless path (@p normal_only) their normal forces at once.
+inline void fill_batch(const PairInputs& in, const LawCoefficients& law, bool normal_only,
+                       const std::int64_t* kb, std::size_t nb, const double* sx,
+                       const double* sy, ContactBatch& cb) {
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::int64_t k = kb[b];
+    const ContactKinematics kin = in.of(k);
+    if (normal_only) {
+      const double fn = normal_contact_force(law, kin);
+      cb.nx[b] = kin.nx;
+      cb.ny[b] = kin.ny;
+      cb.delta[b] = kin.delta;
+      cb.fx[b] = fn * kin.nx;
+      cb.fy[b] = fn * kin.ny;
+      cb.ftx[b] = cb.fty[b] = 0.0;
+    } else {
+      cb.set(b, kin, sx[k], sy[k]);
+    }
+  }
+}
+/// The pair force (fx, fy) and n x F_t (q) added to grain @p g's sums (the owner gets +F, the
+/// partner -F; both +q) and @p g marked touched; a grain shared between threads is only marked
+/// (its sum is gathered at the kick; another thread may mark it too: a relaxed atomic store).
+template <bool kOwner>
+inline void add_to_grain(int g, bool shared, double fx, double fy, double q, double* sfx,
+                         double* sfy, double* sq, std::uint8_t* touched) {
+  if (shared) {
+    __atomic_store_n(&touched[g], std::uint8_t{1}, __ATOMIC_RELAXED);
+    return;
+  }
+  if (kOwner) {
+    sfx[g] += fx;
+    sfy[g] += fy;
+  } else {
+    sfx[g] -= fx;
+    sfy[g] -= fy;
+  }
+  sq[g] += q;
+  touched[g] = 1;
+}
+
+/// The largest overlap fraction @p max_ov raised by a pair of radii @p ri, @p rj overlapping by
+/// @p delta: the division only where it can raise the maximum (the pre-test has a margin far
+/// above the rounding of either side).
+inline void raise_max_overlap(double delta, double ri, double rj, double& max_ov) {
+  const double dmin = 2.0 * std::min(ri, rj);
+  if (delta > max_ov * dmin * (1.0 - 1e-12)) {
+    const double ov = delta / dmin;
+    if (ov > max_ov) max_ov = ov;
+  }
+}
 }  // namespace
 
 void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
@@ -105,31 +196,8 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
                                       k0, k1, touch_list.k.data());
   const std::int64_t* touching = touch_list.k.data();
   const std::size_t n_touching = touch_list.n;
-  // A pair that is apart forgets its history (and its stored force). Only pairs that touched
-  // at the step before can hold any: those that no longer touch are found by a merge of the
-  // two sorted lists; after a list build every pair is checked.
-  auto forget = [&](std::int64_t k) {
-    if (sx[k] != 0.0 || sy[k] != 0.0) sx[k] = sy[k] = 0;
-    if (forget_forces && (pfx[k] != 0.0 || pfy[k] != 0.0 || pq[k] != 0.0)) pfx[k] = pfy[k] = pq[k] = 0;
-  };
-  if (full_check) {
-    std::size_t a = 0;
-    for (std::int64_t k = k0; k < k1; ++k) {
-      if (a < n_touching && touching[a] == k) {
-        ++a;
-        continue;
-      }
-      forget(k);
-    }
-  } else {
-    std::size_t a = 0;
-    for (std::size_t b = 0; b < before_list.n; ++b) {
-      const std::int64_t k = before_list.k[b];
-      while (a < n_touching && touching[a] < k) ++a;
-      if (a < n_touching && touching[a] == k) continue;
-      forget(k);
-    }
-  }
+  forget_apart_pairs(touching, n_touching, before_list.k.data(), before_list.n, k0, k1,
+                    full_check, forget_forces ? PairForces{pfx, pfy, pq} : PairForces{}, sx, sy);
   // Pass 2: the contact law on the touching pairs, in pair order, in batches of kBatch: the
   // kinematics of the batch, then the law on each (independent contacts, so that the long
   // chains of divisions and square roots of several contacts overlap), then the sums. Every
@@ -154,21 +222,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
     const std::int64_t* kb = touching + b0;
-    for (std::size_t b = 0; b < nb; ++b) {
-      const std::int64_t k = kb[b];
-      const ContactKinematics kin = in.of(k);
-      if (normal_only) {
-        const double fn = normal_contact_force(law, kin);
-        cb.nx[b] = kin.nx;
-        cb.ny[b] = kin.ny;
-        cb.delta[b] = kin.delta;
-        cb.fx[b] = fn * kin.nx;
-        cb.fy[b] = fn * kin.ny;
-        cb.ftx[b] = cb.fty[b] = 0.0;
-      } else {
-        cb.set(b, kin, sx[k], sy[k]);
-      }
-    }
+    fill_batch(in, law, normal_only, kb, nb, sx, sy, cb);
     if (!normal_only) contact_force_batch(law, mu, cb, nb);
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
@@ -187,32 +241,9 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
         pfy[k] = fyb;
         pq[k] = qk;
       }
-      if (!si) {
-        sfx[i] += fxb;
-        sfy[i] += fyb;
-        sq[i] += qk;
-        touched[i] = 1;
-      } else {
-        // another thread may mark the same grain (same value): a relaxed atomic byte store
-        __atomic_store_n(&touched[i], std::uint8_t{1}, __ATOMIC_RELAXED);
-      }
-      if (j < ng) {
-        if (!sj) {
-          sfx[j] -= fxb;
-          sfy[j] -= fyb;
-          sq[j] += qk;
-          touched[j] = 1;
-        } else {
-          __atomic_store_n(&touched[j], std::uint8_t{1}, __ATOMIC_RELAXED);
-        }
-      }
-      // largest overlap fraction: the division only where it can raise the maximum (the
-      // pre-test has a margin far above the rounding of either side)
-      const double dmin = 2.0 * std::min(r[i], r[j]);
-      if (cb.delta[b] > max_ov * dmin * (1.0 - 1e-12)) {
-        const double ov = cb.delta[b] / dmin;
-        if (ov > max_ov) max_ov = ov;
-      }
+      add_to_grain<true>(i, si, fxb, fyb, qk, sfx, sfy, sq, touched);
+      if (j < ng) add_to_grain<false>(j, sj, fxb, fyb, qk, sfx, sfy, sq, touched);
+      raise_max_overlap(cb.delta[b], r[i], r[j], max_ov);
     }
   }
 }

@@ -18,6 +18,52 @@ inline std::uint64_t bits(double v) {
   std::memcpy(&b, &v, sizeof b);
   return b;
 }
+/// The pair-force sum of grain @p i shared by a team's threads, into @p fx, @p fy, @p qs: the
+/// pairs where i is the partner (by pair index), then i's own row, the order in which
+/// range_forces sums the others.
+inline void gather_shared_sum(int i, const NeighborList& nl, double& fx, double& fy,
+                              double& qs) {
+  for (std::int64_t s = nl.rfirst[i]; s < nl.rfirst[i + 1]; ++s) {
+    const std::int64_t k = nl.rpair[s];
+    fx -= nl.fx[k];
+    fy -= nl.fy[k];
+    qs += nl.q[k];
+  }
+  for (std::int64_t k = nl.first[i]; k < nl.first[i + 1]; ++k) {
+    fx += nl.fx[k];
+    fy += nl.fy[k];
+    qs += nl.q[k];
+  }
+}
+
+/// The second half kick v(t+dt) = (v + h a) damp of grain @p i with accelerations (axn, ayn,
+/// aln); with @p kDrift also the next step's half kick and drift (the same operations as
+/// drift_rows), its squared displacement since the list build raising @p maxd2. A grain in
+/// free flight keeps its velocity bit for bit: no store, no dirty cache line.
+template <bool kDrift>
+inline void second_kick(const detail::PlainKick& k, int i, double axn, double ayn, double aln,
+                        double& maxd2) {
+  const double h = k.h, damp = k.damp;
+  double vxi = (k.vx[i] + h * axn) * damp;
+  double vyi = (k.vy[i] + h * ayn) * damp;
+  double wi = (k.w[i] + h * aln) * damp;
+  if (kDrift) {
+    vxi += h * axn;
+    vyi += h * ayn;
+    wi += h * aln;
+    double xi = k.x[i] + k.dt * vxi, yi = k.y[i] + k.dt * vyi;
+    k.box.wrap(xi, yi);
+    k.x[i] = xi;
+    k.y[i] = yi;
+    double dx = xi - k.xb[i], dy = yi - k.yb[i];
+    k.box.min_image(dx, dy);
+    const double d2 = dx * dx + dy * dy;
+    if (d2 > maxd2) maxd2 = d2;
+  }
+  if (bits(k.vx[i]) != bits(vxi)) k.vx[i] = vxi;
+  if (bits(k.vy[i]) != bits(vyi)) k.vy[i] = vyi;
+  if (bits(k.w[i]) != bits(wi)) k.w[i] = wi;
+}
 }  // namespace
 
 template <DemSystem::Kick kMode>
@@ -26,12 +72,6 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
   const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
   const PeriodicBox box = opt_.box;
-  const std::int64_t* first = nl_.first.data();
-  const std::int64_t* rfirst = nl_.rfirst.data();
-  const std::int64_t* rpair = nl_.rpair.data();
-  const double* pfx = nl_.fx.data();
-  const double* pfy = nl_.fy.data();
-  const double* pq = nl_.q.data();
   const int* slot = ic_slot_.data();
   std::uint8_t* touched = touched_.data();
   std::uint8_t* flags = grain_flags_.data();
@@ -103,19 +143,7 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
         qs = sq[i];
         sfx[i] = sfy[i] = sq[i] = 0;
       } else {
-        // a shared grain of a team: pairs where i is the partner (by pair index), then i's
-        // own row, the order in which range_forces sums the others
-        for (std::int64_t s = rfirst[i]; s < rfirst[i + 1]; ++s) {
-          const std::int64_t k = rpair[s];
-          fx -= pfx[k];
-          fy -= pfy[k];
-          qs += pq[k];
-        }
-        for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
-          fx += pfx[k];
-          fy += pfy[k];
-          qs += pq[k];
-        }
+        gather_shared_sum(i, nl_, fx, fy, qs);
       }
     }
     double tq = -r[i] * qs;
@@ -134,28 +162,7 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
     flags[i] = static_cast<std::uint8_t>(fl | kAccelSet);
     }
     if (kMode == Kick::first) continue;
-    // second half kick: v(t+dt)
-    double vxi = (vx[i] + h * axn) * damp;
-    double vyi = (vy[i] + h * ayn) * damp;
-    double wi = (w[i] + h * aln) * damp;
-    if (kMode == Kick::drift) {
-      // the next step's half kick and drift (the same operations as drift_rows)
-      vxi += h * axn;
-      vyi += h * ayn;
-      wi += h * aln;
-      double xi = px[i] + dt * vxi, yi = py[i] + dt * vyi;
-      box.wrap(xi, yi);
-      px[i] = xi;
-      py[i] = yi;
-      double dx = xi - xb[i], dy = yi - yb[i];
-      box.min_image(dx, dy);
-      const double d2 = dx * dx + dy * dy;
-      if (d2 > maxd2) maxd2 = d2;
-    }
-    // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
-    if (bits(vx[i]) != bits(vxi)) vx[i] = vxi;
-    if (bits(vy[i]) != bits(vyi)) vy[i] = vyi;
-    if (bits(w[i]) != bits(wi)) w[i] = wi;
+    second_kick<kMode == Kick::drift>(plain, i, axn, ayn, aln, maxd2);
     }
   }
   return maxd2;

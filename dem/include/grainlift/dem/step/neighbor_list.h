@@ -53,6 +53,25 @@ class NeighborList {
   std::vector<std::int64_t> rcursor_;
   std::vector<std::vector<int>> thread_partner_;
   std::vector<std::vector<std::int64_t>> thread_count_;
+  /// The cell grid of a build: cells at least 2 rmax + skin wide over the box (and every
+  /// disk along a direction that is not periodic).
+  struct CellGrid {
+    double xmin = 0, ymin = 0, hx = 0, hy = 0;
+    int ncx = 1, ncy = 1;
+  };
+  /// Sorts every disk into its cell (cell_of_, cell_start_, cell_items_; index order inside
+  /// each cell).
+  CellGrid bin_disks(const PeriodicBox& box, const double* x, const double* y, const double* r,
+                     int n_total, double skin);
+  /// The partners j > i within r_i + r_j + skin of rows [lo, hi), each row sorted by j, into
+  /// thread block @p t's scratch (thread_partner_, thread_count_).
+  void list_rows(const PeriodicBox& box, const CellGrid& g, const double* x, const double* y,
+                 const double* r, double skin, int t, int lo, int hi);
+  /// first, partner and owner from the thread blocks in row order; the per-pair arrays zeroed.
+  void concatenate_rows(int n_mobile, int nt);
+  /// The springs of the pairs that survive from the previous list (rows sorted by j on both
+  /// sides) carried over, on @p nt threads.
+  void carry_history(int old_rows, int nt);
   /// Fill rfirst/rpair from first/partner (pairs where a body is the partner, in pair order).
   void build_reverse_index(int n_total);
 };
