@@ -144,24 +144,45 @@ namespace {
 
 const bool kHaveAvx512 = __builtin_cpu_supports("avx512f");
 
+/// PeriodicBox::wrap and min_image on eight lanes, bit for bit.
+struct BoxLanes {
+  __m512d wlx, wly, nwlx, nwly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
+  __attribute__((target("avx512f"))) explicit BoxLanes(const PeriodicBox& b) {
+    // wrap: subtract l when x >= max, -l when x < min, +0.0 otherwise
+    wlx = _mm512_set1_pd(b.periodic_x ? b.lx() : 0.0);
+    wly = _mm512_set1_pd(b.periodic_y ? b.ly() : 0.0);
+    nwlx = _mm512_set1_pd(b.periodic_x ? -b.lx() : 0.0);
+    nwly = _mm512_set1_pd(b.periodic_y ? -b.ly() : 0.0);
+    xmax = _mm512_set1_pd(b.periodic_x ? b.xmax : HUGE_VAL);
+    xmin = _mm512_set1_pd(b.periodic_x ? b.xmin : -HUGE_VAL);
+    ymax = _mm512_set1_pd(b.periodic_y ? b.ymax : HUGE_VAL);
+    ymin = _mm512_set1_pd(b.periodic_y ? b.ymin : -HUGE_VAL);
+    // minimum image: dx > l/2 subtracts l, dx < -l/2 adds it
+    hx = _mm512_set1_pd(b.periodic_x ? 0.5 * b.lx() : HUGE_VAL);
+    hy = _mm512_set1_pd(b.periodic_y ? 0.5 * b.ly() : HUGE_VAL);
+    nhx = _mm512_set1_pd(b.periodic_x ? -(0.5 * b.lx()) : -HUGE_VAL);
+    nhy = _mm512_set1_pd(b.periodic_y ? -(0.5 * b.ly()) : -HUGE_VAL);
+  }
+  __attribute__((target("avx512f"))) void wrap(__m512d& x, __m512d& y) const {
+    const __m512d zero = _mm512_setzero_pd();
+    __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmin, _CMP_LT_OQ), zero, nwlx);
+    x = _mm512_sub_pd(x, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmax, _CMP_GE_OQ), s, wlx));
+    s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymin, _CMP_LT_OQ), zero, nwly);
+    y = _mm512_sub_pd(y, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymax, _CMP_GE_OQ), s, wly));
+  }
+  __attribute__((target("avx512f"))) void min_image(__m512d& dx, __m512d& dy) const {
+    const __m512d zero = _mm512_setzero_pd();
+    __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, nhx, _CMP_LT_OQ), zero, nwlx);
+    dx = _mm512_sub_pd(dx, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, hx, _CMP_GT_OQ), s, wlx));
+    s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, nhy, _CMP_LT_OQ), zero, nwly);
+    dy = _mm512_sub_pd(dy, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, hy, _CMP_GT_OQ), s, wly));
+  }
+};
+
 template <bool kDrift>
 __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, int hi,
                                                    double& max_d2) {
-  const PeriodicBox& b = k.box;
-  // wrap: subtract l when x >= max, -l when x < min, +0.0 otherwise (PeriodicBox::wrap)
-  const __m512d wlx = _mm512_set1_pd(b.periodic_x ? b.lx() : 0.0);
-  const __m512d wly = _mm512_set1_pd(b.periodic_y ? b.ly() : 0.0);
-  const __m512d nwlx = _mm512_set1_pd(b.periodic_x ? -b.lx() : 0.0);
-  const __m512d nwly = _mm512_set1_pd(b.periodic_y ? -b.ly() : 0.0);
-  const __m512d xmax = _mm512_set1_pd(b.periodic_x ? b.xmax : HUGE_VAL);
-  const __m512d xmin = _mm512_set1_pd(b.periodic_x ? b.xmin : -HUGE_VAL);
-  const __m512d ymax = _mm512_set1_pd(b.periodic_y ? b.ymax : HUGE_VAL);
-  const __m512d ymin = _mm512_set1_pd(b.periodic_y ? b.ymin : -HUGE_VAL);
-  // minimum image (PeriodicBox::min_image): dx > l/2 subtracts l, dx < -l/2 adds it
-  const __m512d hx = _mm512_set1_pd(b.periodic_x ? 0.5 * b.lx() : HUGE_VAL);
-  const __m512d hy = _mm512_set1_pd(b.periodic_y ? 0.5 * b.ly() : HUGE_VAL);
-  const __m512d nhx = _mm512_set1_pd(b.periodic_x ? -(0.5 * b.lx()) : -HUGE_VAL);
-  const __m512d nhy = _mm512_set1_pd(b.periodic_y ? -(0.5 * b.ly()) : -HUGE_VAL);
+  const BoxLanes box(k.box);
   const __m512d zero = _mm512_setzero_pd();
   const __m512d dt = _mm512_set1_pd(k.dt), damp = _mm512_set1_pd(k.damp);
   // h a0, as the scalar code computes it for each grain
@@ -237,19 +258,13 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       const __m512d x0 = _mm512_loadu_pd(k.x + i), y0 = _mm512_loadu_pd(k.y + i);
       __m512d x = _mm512_add_pd(x0, _mm512_mul_pd(dt, vx));
       __m512d y = _mm512_add_pd(y0, _mm512_mul_pd(dt, vy));
-      __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmin, _CMP_LT_OQ), zero, nwlx);
-      x = _mm512_sub_pd(x, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmax, _CMP_GE_OQ), s, wlx));
-      s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymin, _CMP_LT_OQ), zero, nwly);
-      y = _mm512_sub_pd(y, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymax, _CMP_GE_OQ), s, wly));
+      box.wrap(x, y);
       // positions too are stored only where a bit changes
       _mm512_mask_storeu_pd(k.x + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(x0)), x);
       _mm512_mask_storeu_pd(k.y + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(y), _mm512_castpd_si512(y0)), y);
       __m512d dx = _mm512_sub_pd(x, _mm512_cvtps_pd(_mm256_loadu_ps(k.xb + i)));
       __m512d dy = _mm512_sub_pd(y, _mm512_cvtps_pd(_mm256_loadu_ps(k.yb + i)));
-      s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, nhx, _CMP_LT_OQ), zero, nwlx);
-      dx = _mm512_sub_pd(dx, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, hx, _CMP_GT_OQ), s, wlx));
-      s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, nhy, _CMP_LT_OQ), zero, nwly);
-      dy = _mm512_sub_pd(dy, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, hy, _CMP_GT_OQ), s, wly));
+      box.min_image(dx, dy);
       const __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
       md2 = _mm512_max_pd(d2, md2);  // a NaN d2 is ignored, as by the scalar test
     }
