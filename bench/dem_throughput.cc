@@ -1,8 +1,8 @@
 // DEM throughput: particle-steps per second of the full time step (neighbour lists, contact
 // law, intruder loop, integration) for a dense (Phi 0.82) and a dilute (Phi 0.35) bed of
 // more than 20,000 disks, both relaxed below jamming (almost no contacts), and a jammed bed
-// (Phi 0.86, about two contacts per grain), on 1 and 2 threads. The intruder moves at 1 m/s with Omega = 2,
-// Kumar's parameters and dt = 2e-6 s. Beds are prepared once and cached under
+// (Phi 0.86, about two contacts per grain), on 1 and 2 threads. The intruder moves at 1 m/s with
+// Omega = 2, Kumar's parameters and dt = 2e-6 s. Beds are prepared once and cached under
 // $GRAINLIFT_BENCH_CACHE (default: /tmp/grainlift_bench_cache).
 //
 //   ./build-dem/bin/dem_throughput --benchmark_counters_tabular=true
@@ -84,7 +84,8 @@ int main(int argc, char** argv) {
   struct {
     const char* name;
     void (*fn)(benchmark::State&);
-  } beds[] = {{"BM_DenseBed", BM_DenseBed}, {"BM_DiluteBed", BM_DiluteBed}, {"BM_JammedBed", BM_JammedBed}};
+  } beds[] = {
+      {"BM_DenseBed", BM_DenseBed}, {"BM_DiluteBed", BM_DiluteBed}, {"BM_JammedBed", BM_JammedBed}};
   for (const auto& b : beds) {
     auto* r = benchmark::RegisterBenchmark(b.name, b.fn);
     r->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();

@@ -91,8 +91,9 @@ int main(int argc, char** argv) {
     const auto walls = gd::make_wall_disks(c);
 
     if (!grainlift::dem::write_lammps_data(
-            out_path, "grainlift case " + case_path + ", Phi = " + std::to_string(bed.area_fraction),
-            c, bed, walls)) {
+            out_path,
+            "grainlift case " + case_path + ", Phi = " + std::to_string(bed.area_fraction), c, bed,
+            walls)) {
       std::fprintf(stderr, "%s: cannot write %s\n", argv[0], out_path.c_str());
       return kBadInput;
     }

@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
     const double rate = c.wall_speed / gap;  // 1/s, nominal
     const auto t0 = std::chrono::steady_clock::now();
     const gd::ShearCellResult r = gd::run_shear_cell(c);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("%9.3g %9.3g %8.3g %7.4f+-%.4f %8.4f+-%.4f %7.4f %6s %7.2f %8.1f\n", target,
                 r.inertial_number, c.wall_speed, r.friction.mean, r.friction.se,
                 r.area_fraction.mean, r.area_fraction.se, r.profile_r2, r.steady ? "yes" : "no",

@@ -37,7 +37,8 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
     try {
       r = run_shear_cell(shear_cell_at(base, target, o.strain_scale));
     } catch (const ConfigError& e) {
-      throw InputError(fmt::format("{}: shear cell at I = {}: {}", c.source.path, target, e.what()));
+      throw InputError(
+          fmt::format("{}: shear cell at I = {}: {}", c.source.path, target, e.what()));
     } catch (const RunFailure& e) {
       p.failure = e.what();
     }

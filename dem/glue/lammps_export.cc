@@ -140,9 +140,12 @@ void add_pair_style(const ContactParams& contact, std::string& s) {
     line("pair_coeff      * *");
   } else {
     const double nu = k.poisson_ratio;
-    line(fmt::format("# Guillard 2014 Table I (E = {} Pa, nu = {}, e = {}): Hertz-Mindlin from E, nu;",
-                     num(k.youngs_modulus), num(nu), num(k.restitution)));
-    line("# `damping tsuji` is handed the e whose alpha is sqrt(5)|beta(e_case)|, and the tangential");
+    line(fmt::format(
+        "# Guillard 2014 Table I (E = {} Pa, nu = {}, e = {}): Hertz-Mindlin from E, nu;",
+        num(k.youngs_modulus), num(nu), num(k.restitution)));
+    line(
+        "# `damping tsuji` is handed the e whose alpha is sqrt(5)|beta(e_case)|, and the "
+        "tangential");
     line("# damping is sqrt(2(1-nu)/(2-nu)) of the normal one (docs/lammps.md)");
     line("pair_style      granular");
     line(fmt::format("pair_coeff      * * hertz/material {} {} {} tangential mindlin NULL {} {} "
@@ -204,9 +207,9 @@ void write_manifest(const Case& cs, const LammpsExport& ex, const std::string& d
   manifest += "case_path " + cs.source.path + "\n";
   manifest += "case_hash " + cs.source.hash + "\n";
   for (const auto& o : cs.source.overrides) manifest += "override " + o + "\n";
-  manifest += fmt::format("grains {}\nwalls {}\narea_fraction {}\npacking_from_cache {}\nsteps {}\n",
-                          ex.grains, ex.walls, num(ex.area_fraction),
-                          ex.packing_from_cache ? 1 : 0, ex.steps);
+  manifest += fmt::format(
+      "grains {}\nwalls {}\narea_fraction {}\npacking_from_cache {}\nsteps {}\n", ex.grains,
+      ex.walls, num(ex.area_fraction), ex.packing_from_cache ? 1 : 0, ex.steps);
   write_text_atomically(dir + "/" + kExportManifest, manifest);
 }
 
@@ -275,14 +278,16 @@ LammpsExport export_lammps(const Case& cs, const std::string& dir) {
   line("");
   add_pair_style(c.contact, s);
   line("");
-  line("# skin 0.2 r_max as grainlift's lists; wall disks touch neither each other nor the intruder");
+  line(
+      "# skin 0.2 r_max as grainlift's lists; wall disks touch neither each other nor the "
+      "intruder");
   line(fmt::format("neighbor        {} bin", num(0.2 * rmax)));
   line("neigh_modify    delay 0 every 1 check yes exclude type 2 2 exclude type 2 3");
   line(fmt::format("timestep        {}", num(c.dt)));
   line("fix             integrate grains nve/sphere disc");
   line("fix             frozen walls freeze");
-  line(fmt::format("fix             drive intruder move linear {} {} 0.0", num(c.intruder_velocity[0]),
-                   num(c.intruder_velocity[1])));
+  line(fmt::format("fix             drive intruder move linear {} {} 0.0",
+                   num(c.intruder_velocity[0]), num(c.intruder_velocity[1])));
   line("fix             plane all enforce2d");
   const double g = std::hypot(c.gravity[0], c.gravity[1]);
   if (g > 0)

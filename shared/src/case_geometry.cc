@@ -23,8 +23,10 @@ FieldGridLayout field_grid_layout(const Case& c) {
   if (!c.output.fields) return g;
   g.enabled = true;
   g.spacing = c.output.field_spacing * c.grains.diameter;
-  g.nx = std::max(1, int(std::ceil(2 * c.output.field_half_size[0] * c.intruder.diameter / g.spacing)));
-  g.ny = std::max(1, int(std::ceil(2 * c.output.field_half_size[1] * c.intruder.diameter / g.spacing)));
+  g.nx = std::max(
+      1, int(std::ceil(2 * c.output.field_half_size[0] * c.intruder.diameter / g.spacing)));
+  g.ny = std::max(
+      1, int(std::ceil(2 * c.output.field_half_size[1] * c.intruder.diameter / g.spacing)));
   g.x0 = -0.5 * g.nx * g.spacing;
   g.y0 = -0.5 * g.ny * g.spacing;
   return g;

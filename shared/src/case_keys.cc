@@ -37,7 +37,8 @@ KeySpec boolean(std::string path, std::string def, std::string desc) {
 void add_scene_keys(std::vector<KeySpec>& k) {
   k.push_back(vec2("scene.gravity", false, "[0.0, 0.0]", -1e3, 1e3, "m/s^2",
                    "gravitational acceleration [gx, gy]"));
-  k.push_back(choice("scene.depth_mode", "\"box\"", {"box", "free_surface", "heavy_lid", "lid_only"},
+  k.push_back(choice("scene.depth_mode", "\"box\"",
+                     {"box", "free_surface", "heavy_lid", "lid_only"},
                      "how the intruder's depth is made (Guillard et al. 2014, Sec. II; "
                      "docs/dem-model.md, \"Depth modes\"): box = as the domain and "
                      "domain.lid_pressure say; free_surface = gravity, no lid, the top of the "
@@ -188,7 +189,8 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                    "beads)"));
   k.push_back(real("continuum.mu_2", false, "0.64", 0, 5, false, false, "-",
                    "limiting friction coefficient of mu(I) (>= mu_s)"));
-  k.push_back(real("continuum.I0", false, "0.279", 0, 10, true, false, "-", "inertial number scale"));
+  k.push_back(
+      real("continuum.I0", false, "0.279", 0, 10, true, false, "-", "inertial number scale"));
   k.push_back(choice("continuum.rheology_file", "\"\"", {},
                      "TOML file of a calibrated mu(I) and Phi(I) (docs/schema.md, rheology "
                      "file; a relative path is taken from the case file's folder): its mu_s, "
@@ -271,8 +273,10 @@ void add_output_keys(std::vector<KeySpec>& k) {
   k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
   k.push_back(real("output.kernel_width_deg", false, "8.0", 0, 90, true, false, "deg",
                    "standard deviation of the Gaussian surface kernel (Guillard eq. A4)"));
-  k.push_back(integer("output.histogram_bins", "24", 4, 720, "contact histogram bins (24 = pi/12)"));
-  k.push_back(integer("output.blocks", "20", 2, 10000, "blocks for block-averaged standard errors"));
+  k.push_back(
+      integer("output.histogram_bins", "24", 4, 720, "contact histogram bins (24 = pi/12)"));
+  k.push_back(
+      integer("output.blocks", "20", 2, 10000, "blocks for block-averaged standard errors"));
   k.push_back(boolean("output.fields", "true", "write fields on the grid in the intruder frame"));
   k.push_back(real("output.field_spacing", false, "0.5", 0, 100, true, false, "d",
                    "field grid spacing, in mean grain diameters"));

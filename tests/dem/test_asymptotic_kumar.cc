@@ -60,9 +60,9 @@ TEST(KumarAsymptotic, LiftAlongMinusOmegaCrossVDiluteBed) {
 
 // Prediction 2 (Kumar 2019, Fig. 3a-c): L/D rises from 0 at Omega = 0 and saturates at high
 // Omega. Phi = 0.35: |L/D| at Omega = 0 within 3 standard errors of 0; at Omega = 4 the lift
-// is below zero by more than 3 of its standard errors (measured 4.0); Omega = 4 and 10 agree within 3 combined standard
-// errors, and within 0.15 absolute so that large errors cannot make them agree (pooled four
-// beds, docs/results-kumar2019.md: -0.386 +- 0.048 and -0.375 +- 0.068).
+// is below zero by more than 3 of its standard errors (measured 4.0); Omega = 4 and 10 agree within
+// 3 combined standard errors, and within 0.15 absolute so that large errors cannot make them agree
+// (pooled four beds, docs/results-kumar2019.md: -0.386 +- 0.048 and -0.375 +- 0.068).
 TEST(KumarAsymptotic, LiftOverDragRisesFromZeroAndSaturates) {
   const Forces f0 = run(0.35, 0.0), f4 = run(0.35, 4.0), f10 = run(0.35, 10.0);
   EXPECT_LT(std::abs(f0.ld.mean), 3 * f0.ld.stderr_);

@@ -97,8 +97,9 @@ TEST(BedFingerprint, AnisotropicAndLooseLattices) {
 }
 
 // Around an intruder at the centre of a uniform lattice the rings see the lattice's area
-// fraction (each ring within 20%, their mean within 3%: centre binning, below); a lattice with the disks within
-// 2 d of the intruder removed shows an empty first two rings and the full value beyond 3 d.
+// fraction (each ring within 20%, their mean within 3%: centre binning, below); a lattice with the
+// disks within 2 d of the intruder removed shows an empty first two rings and the full value beyond
+// 3 d.
 TEST(BedFingerprint, RingsAroundTheIntruderSeeAHole) {
   const double d = 0.01;
   const int n = 40;
@@ -130,7 +131,8 @@ TEST(BedFingerprint, RingsAroundTheIntruderSeeAHole) {
   EXPECT_NEAR(grains / area, kPi / 4, 0.03 * kPi / 4);
   EXPECT_EQ(h.ring_area_fraction[0], 0.0);
   EXPECT_EQ(h.ring_area_fraction[1], 0.0);
-  for (std::size_t q = 3; q < 10; ++q) EXPECT_NEAR(h.ring_area_fraction[q], f.ring_area_fraction[q], 1e-12);
+  for (std::size_t q = 3; q < 10; ++q)
+    EXPECT_NEAR(h.ring_area_fraction[q], f.ring_area_fraction[q], 1e-12);
 }
 
 // Kumar's wall compression (DemConfig::preparation = wall_compression) of a walled box to Phi

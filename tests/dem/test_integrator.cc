@@ -135,7 +135,8 @@ TEST(Integrator, HeadOnRestitutionMatchesTheLawODE) {
 // Tolerance 1e-9 relative (the step of 1e-12 s moves the grains by ~1e-21 m).
 TEST(Integrator, ForceAgainstOverlapAtRestThroughTheSystem) {
   auto o = open_box(0.5, 1e-12);
-  o.contact.gamma_n = o.contact.gamma_t = 0;  // no damping: the tiny first-step velocity does not enter
+  o.contact.gamma_n = o.contact.gamma_t =
+      0;  // no damping: the tiny first-step velocity does not enter
   gd::DemSystem s(o);
   const double r1 = 0.011, r2 = 0.009, delta = 3e-5;
   s.set_bodies({grain(0, 0, r1), grain(r1 + r2 - delta, 0, r2)}, {});

@@ -47,7 +47,8 @@ TEST(KumarRegression, SpinningIntruderFeelsLiftAlongMinusOmegaCrossV) {
   const auto drag = block_mean(out, [](const gd::IntruderSample& s) { return -s.fx; });
   std::printf(
       "reduced Kumar run: %d grains, Phi = %.4f, %lld steps in %.1f s\n"
-      "  drag D = %.3f +- %.3f N/m, lift L = %.3f +- %.3f N/m (block standard errors), L/D = %.3f\n",
+      "  drag D = %.3f +- %.3f N/m, lift L = %.3f +- %.3f N/m (block standard errors), L/D = "
+      "%.3f\n",
       out.grains, out.achieved_area_fraction, out.steps, seconds, drag.mean, drag.stderr_,
       lift.mean, lift.stderr_, lift.mean / drag.mean);
   RecordProperty("drag", std::to_string(drag.mean));

@@ -1,5 +1,5 @@
-// Pressure-controlled lid (lid.h): the top wall moves along y, as one rigid body or disk by disk, under a target
-// pressure P, without gravity.
+// Pressure-controlled lid (lid.h): the top wall moves along y, as one rigid body or disk by disk,
+// under a target pressure P, without gravity.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -46,9 +46,8 @@ double mean_contact_stress_yy(const gd::DemSystem& s, double area) {
   return sum / area;
 }
 
-
-/// Settles a lid bed (60,000 steps by default: ~10 periods of the lid critically damped on the bed's
-/// estimated stiffness, lid mass = bed mass), then averages over the next 20,000 steps.
+/// Settles a lid bed (60,000 steps by default: ~10 periods of the lid critically damped on the
+/// bed's estimated stiffness, lid mass = bed mass), then averages over the next 20,000 steps.
 struct LidRun {
   double y0 = 0, y_start = 0, y_end = 0;  ///< lid height: made, settled, end
   double pressure = 0;                     ///< time-averaged force on the lid / width

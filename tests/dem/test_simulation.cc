@@ -61,7 +61,9 @@ std::vector<std::vector<unsigned char>> run_with_checkpoints(const gd::DemConfig
   std::vector<std::vector<unsigned char>> saved;
   gd::RunControl control;
   control.checkpoint_steps = 1000;
-  control.checkpoint = [&](const gd::RunCheckpoint& ck) { saved.push_back(gd::encode_checkpoint(ck)); };
+  control.checkpoint = [&](const gd::RunCheckpoint& ck) {
+    saved.push_back(gd::encode_checkpoint(ck));
+  };
   gd::DemOutput o = gd::run_simulation(c, {}, {}, control);
   if (out) *out = std::move(o);
   return saved;
@@ -87,7 +89,8 @@ TEST(Simulation, DtCheckRefusesTooLargeDt) {
     FAIL() << "dt = 5e-5 s was accepted";
   } catch (const gd::ConfigError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("dt = 5e-05 s exceeds 0.1 of the binary collision time"), std::string::npos) << m;
+    EXPECT_NE(m.find("dt = 5e-05 s exceeds 0.1 of the binary collision time"), std::string::npos)
+        << m;
     EXPECT_NE(m.find("use dt <="), std::string::npos) << m;
   }
   EXPECT_THROW(gd::run_simulation(c), gd::ConfigError);
@@ -183,7 +186,8 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
   const auto other = gd::run_simulation(c);
   ASSERT_EQ(other.samples.size(), a.samples.size());
   bool differs = false;
-  for (std::size_t k = 0; k < a.samples.size(); ++k) differs |= other.samples[k].fx != a.samples[k].fx;
+  for (std::size_t k = 0; k < a.samples.size(); ++k)
+    differs |= other.samples[k].fx != a.samples[k].fx;
   EXPECT_TRUE(differs);
   std::filesystem::remove_all(c.packing_cache_dir);
 }
@@ -276,7 +280,8 @@ TEST(Simulation, SleepingAtZeroSpeedGivesTheBitsOfARunWithout) {
 // Physics: with sleep_speed > 0 grains that still creep (at most 5% of V0 here, far above the
 // default 0) are stopped when they fall asleep: an approximation of the far field only, so
 // the mean drag and lift over the steady part must stay within three combined standard
-// errors (block averages) of the run without sleeping, while at least 5% of the grain-steps are asleep.
+// errors (block averages) of the run without sleeping, while at least 5% of the grain-steps are
+// asleep.
 TEST(Simulation, SleepingSlowGrainsKeepsTheForcesWithinTheirErrors) {
   auto c = small_case(60, 24, 0.8);
   c.seed = 14;
@@ -303,7 +308,8 @@ TEST(Simulation, SleepingSlowGrainsKeepsTheForcesWithinTheirErrors) {
         << b.mean << " +- " << b.se;
     EXPECT_GT(combined, 0.0);
     std::printf("%s: %.4g +- %.2g N/m asleep (%.1f%% of grain-steps), %.4g +- %.2g N/m awake\n",
-                axis == 0 ? "fx" : "fy", a.mean, a.se, 100 * asleep.sleeping_fraction, b.mean, b.se);
+                axis == 0 ? "fx" : "fy", a.mean, a.se, 100 * asleep.sleeping_fraction, b.mean,
+                b.se);
   }
   std::filesystem::remove_all(c.packing_cache_dir);
 }
@@ -528,7 +534,8 @@ TEST(Simulation, IntruderContactSignConventions) {
   ASSERT_GT(slipping, 10);
   EXPECT_GT(clockwise, 0.9 * slipping);
   double torque = 0;
-  for (std::size_t i = out.steady_start_index; i < out.samples.size(); ++i) torque += out.samples[i].torque;
+  for (std::size_t i = out.steady_start_index; i < out.samples.size(); ++i)
+    torque += out.samples[i].torque;
   EXPECT_LT(torque, 0.0);
 }
 

@@ -141,7 +141,9 @@ TEST(Team, AnyTeamGivesTheBitsOfOneThread) {
 TEST(Team, DrivenWallGivesTheBitsOfAMoveBeforeEachStep) {
   constexpr int kSteps = 4000;
   const double v = -2.0, dy = v * 2e-6;
-  auto top_row = [](const gd::DemSystem& s) { return std::pair{s.grains() + 120, s.grains() + 240}; };
+  auto top_row = [](const gd::DemSystem& s) {
+    return std::pair{s.grains() + 120, s.grains() + 240};
+  };
   auto snapshot = [](const gd::DemSystem& s) {
     std::vector<double> out{s.intruder_fx(), s.intruder_fy(), s.intruder_torque()};
     const gd::ParticleArrays& p = s.particles();

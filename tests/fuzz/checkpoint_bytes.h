@@ -1,5 +1,6 @@
 // The checkpoint fuzz target's input as checkpoint bytes (fuzz_checkpoint.cc), shared with the
-// seed maker. The frame (magic, format word, FNV-1a 64 checksum) follows dem/src/system/checkpoint.cc.
+// seed maker. The frame (magic, format word, FNV-1a 64 checksum) follows
+// dem/src/system/checkpoint.cc.
 #pragma once
 
 #include <cstdint>

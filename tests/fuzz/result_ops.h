@@ -176,7 +176,8 @@ struct ValueSpec {
     std::size_t n = 1;
     for (hsize_t d : dims) {
       if (d == 0) return 0;
-      if (n > std::numeric_limits<std::size_t>::max() / d) return std::numeric_limits<std::size_t>::max();
+      if (n > std::numeric_limits<std::size_t>::max() / d)
+        return std::numeric_limits<std::size_t>::max();
       n *= static_cast<std::size_t>(d);
     }
     return n;
@@ -318,7 +319,8 @@ inline hid_t create_value(hid_t where, const std::string& name, const ValueSpec&
         std::vector<unsigned char> buf(16 * n);
         for (std::size_t k = 0; k < n; ++k) {
           const double b = d[2 * k + 1];
-          const long long i = std::isfinite(b) && std::abs(b) < 9e18 ? static_cast<long long>(b) : 0;
+          const long long i =
+              std::isfinite(b) && std::abs(b) < 9e18 ? static_cast<long long>(b) : 0;
           std::memcpy(&buf[16 * k], &d[2 * k], 8);
           std::memcpy(&buf[16 * k + 8], &i, 8);
         }
@@ -501,8 +503,8 @@ inline void describe_value(OpWriter& w, hid_t obj, bool dataset) {
   } else if (kind == vlen_string) {
     w.u8(1);
     std::vector<char*> p(n, nullptr);
-    const herr_t ok =
-        dataset ? H5Dread(obj, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()) : H5Aread(obj, type, p.data());
+    const herr_t ok = dataset ? H5Dread(obj, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data())
+                              : H5Aread(obj, type, p.data());
     w.literal(ok >= 0 && p[0] ? p[0] : "");
     if (ok >= 0) H5Dvlen_reclaim(type, space, H5P_DEFAULT, p.data());
   } else {

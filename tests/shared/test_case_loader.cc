@@ -170,7 +170,8 @@ TEST(CaseLoader, CrossChecksGeometryAndRun) {
   EXPECT_TRUE(contains(e, "continuum.far_field = \"periodic\" needs a box periodic in x")) << e;
   e = error_of(base, {"continuum.bed_top=0.5"});
   EXPECT_TRUE(contains(e, "continuum.bed_top = 0.5 m must lie above the intruder's top")) << e;
-  EXPECT_EQ(grainlift::parse_case(base, "case.toml", {"continuum.bed_top=0.3"}).continuum.bed_top, 0.3);
+  EXPECT_EQ(grainlift::parse_case(base, "case.toml", {"continuum.bed_top=0.3"}).continuum.bed_top,
+            0.3);
   EXPECT_TRUE(std::isnan(grainlift::parse_case(base, "case.toml", {}).continuum.bed_top));
 }
 
@@ -277,7 +278,8 @@ TEST(CaseKeys, DocsListEveryKey) {
 // too is refused with the key's line; a missing file is refused naming it.
 TEST(CaseLoader, RheologyFileReplacesTheContinuumLaw) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("grainlift_rheology_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("grainlift_rheology_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::vector<grainlift::ShearPoint> pts;
   for (int k = 0; k < 8; ++k) {
@@ -338,8 +340,8 @@ TEST(CaseLoader, DepthModesDeriveLidBoxAndGravityFromTheDepth) {
   EXPECT_DOUBLE_EQ(lid.reference_gravity(), g);
   EXPECT_NEAR(lid.equivalent_depth(), h, 1e-12 * h);
 
-  const Case free = parse_case(base, "case.toml",
-                               with({"scene.depth_mode=\"free_surface\"", "domain.walls=[\"bottom\"]"}));
+  const Case free = parse_case(
+      base, "case.toml", with({"scene.depth_mode=\"free_surface\"", "domain.walls=[\"bottom\"]"}));
   EXPECT_NEAR(free.domain.y_range[1], h, 1e-12);  // intruder at y = 0: the top is at h
   EXPECT_EQ(free.domain.lid_pressure, 0.0);
   EXPECT_NEAR(free.stated_pressure(), rho * g * h, 1e-12 * rho * g * h);

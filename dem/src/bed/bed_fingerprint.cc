@@ -166,8 +166,8 @@ void area_fraction_profiles(const DemConfig& c, const PackedBed& bed, const Peri
                          ? 1.0 : 0.0;
     open_area *= (x1 - x0) * bh / (rows * kSub);
     fp.band_y.push_back(y0 + (j + 0.5) * bh);
-    fp.band_area_fraction.push_back(open_area > 0 ? band_grain[static_cast<std::size_t>(j)] / open_area
-                                                  : 0.0);
+    fp.band_area_fraction.push_back(
+        open_area > 0 ? band_grain[static_cast<std::size_t>(j)] / open_area : 0.0);
   }
   if (R > 0) {
     for (int q = 0; q < rings; ++q) {
@@ -186,8 +186,8 @@ void area_fraction_profiles(const DemConfig& c, const PackedBed& bed, const Peri
         open_area += 2 * kPi * rr * (d / radial) * inside / kSub;
       }
       fp.ring_r.push_back(ra + 0.5 * d);
-      fp.ring_area_fraction.push_back(open_area > 0 ? ring_grain[static_cast<std::size_t>(q)] / open_area
-                                                    : 0.0);
+      fp.ring_area_fraction.push_back(
+          open_area > 0 ? ring_grain[static_cast<std::size_t>(q)] / open_area : 0.0);
     }
   }
 }

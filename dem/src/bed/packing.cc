@@ -150,12 +150,14 @@ void sort_into_rows(const DemConfig& c, std::vector<double>& x, std::vector<doub
   std::vector<std::size_t> order(r.size());
   std::vector<long> key(r.size());
   for (std::size_t n = 0; n < r.size(); ++n) {
-    const long cx = std::min<long>(ncx - 1, std::max<long>(0, static_cast<long>((x[n] - c.xmin) / d)));
+    const long cx =
+        std::min<long>(ncx - 1, std::max<long>(0, static_cast<long>((x[n] - c.xmin) / d)));
     const long cy = static_cast<long>(std::floor((y[n] - c.ymin) / d));
     key[n] = cy * ncx + cx;
   }
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
   for (std::vector<double>* v : {&x, &y, &r}) {
     std::vector<double> sorted(v->size());
     for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = (*v)[order[k]];
@@ -209,7 +211,8 @@ void compress_with_wall(const DemConfig& c, std::vector<double>& r, std::mt19937
   const auto [b0, b1] = wall_row(walls, tall.ymin + 0.5 * c.grain_diameter);
   const auto [t0, t1] = wall_row(walls, tall.ymax - 0.5 * c.grain_diameter);
   const double drop = tall.ymax - c.ymax;
-  const long steps = std::max(1L, static_cast<long>(std::ceil(drop / (c.compression_speed * c.dt))));
+  const long steps =
+      std::max(1L, static_cast<long>(std::ceil(drop / (c.compression_speed * c.dt))));
   const double dy = drop / static_cast<double>(steps);
   // a move before every step: the first here, the others inside advance() (same bits)
   for (const auto& [lo, hi, sign] : {std::tuple{b0, b1, 1.0}, std::tuple{t0, t1, -1.0}}) {

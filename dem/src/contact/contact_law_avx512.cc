@@ -40,7 +40,9 @@ inline Lanes8 abs_of(Lanes8 a) { return Lanes8(_mm512_abs_pd(a.v)); }
 inline Mask8 greater(Lanes8 a, Lanes8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GT_OQ)}; }
 inline Mask8 both(Mask8 a, Mask8 b) { return {static_cast<__mmask8>(a.m & b.m)}; }
 inline bool any(Mask8 a) { return a.m != 0; }
-inline Lanes8 select(Mask8 m, Lanes8 a, Lanes8 b) { return Lanes8(_mm512_mask_mov_pd(b.v, m.m, a.v)); }
+inline Lanes8 select(Mask8 m, Lanes8 a, Lanes8 b) {
+  return Lanes8(_mm512_mask_mov_pd(b.v, m.m, a.v));
+}
 
 inline Lanes8 load(const double* p) { return Lanes8(_mm512_load_pd(p)); }
 inline void store(double* p, Lanes8 a) { _mm512_store_pd(p, a.v); }

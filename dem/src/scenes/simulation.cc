@@ -68,7 +68,8 @@ double validate_config(const DemConfig& c) {
   if (c.sample_every < 1) refuse("sample_every = " + str(c.sample_every) + ": need >= 1");
   if (c.field_every < 1) refuse("field_every = " + str(c.field_every) + ": need >= 1");
   if (c.threads < 1) refuse("threads = " + str(c.threads) + ": need >= 1");
-  if (!(c.spin_ramp_time >= 0)) refuse("spin_ramp_time = " + str(c.spin_ramp_time) + " s: need >= 0");
+  if (!(c.spin_ramp_time >= 0))
+    refuse("spin_ramp_time = " + str(c.spin_ramp_time) + " s: need >= 0");
   if (!(c.max_overlap_fraction > 0)) {
     refuse("max_overlap_fraction = " + str(c.max_overlap_fraction) + ": need > 0");
   }
@@ -102,7 +103,8 @@ double validate_config(const DemConfig& c) {
   const double v = impact_speed(c);
   const double m = c.density * kPi * 0.25 * d * d;
   const double tc = hertz_collision_time(law, 0.5 * d, 0.5 * d, m, m, v);
-  if (!(c.max_dt_fraction > 0)) refuse("max_dt_fraction = " + str(c.max_dt_fraction) + ": need > 0");
+  if (!(c.max_dt_fraction > 0))
+    refuse("max_dt_fraction = " + str(c.max_dt_fraction) + ": need > 0");
   if (c.dt > c.max_dt_fraction * tc) {
     refuse("dt = " + str(c.dt) + " s exceeds " + str(c.max_dt_fraction) +
            " of the binary collision time " + str(tc) + " s (two grains of d = " + str(d) +

@@ -145,7 +145,8 @@ inline void raise_max_overlap(double delta, double ri, double rj, double& max_ov
 void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
   const int lo = chunk * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
   range_forces(lo, hi, touch_[static_cast<std::size_t>(chunk)],
-               touch_prev_[static_cast<std::size_t>(chunk)], spring_dt, max_ov, full_check, nullptr);
+               touch_prev_[static_cast<std::size_t>(chunk)], spring_dt, max_ov, full_check,
+               nullptr);
 }
 
 void DemSystem::range_forces(int lo, int hi, TouchList& now, TouchList& before,

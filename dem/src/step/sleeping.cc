@@ -47,7 +47,8 @@ void DemSystem::update_sleep() {
   const double reach = intruder_.present ? (1.0 + kSleepReach) * intruder_.r + 2.0 * skin_ : 0.0;
   for (int i = 0; i < n_grains_; ++i) {
     bool quiet = std::fabs(p_.vx[i]) <= vs && std::fabs(p_.vy[i]) <= vs &&
-                 std::fabs(p_.w[i]) * p_.r[i] <= vs && !(grain_flags_[i] & (kAccelSet | kCandidate));
+                 std::fabs(p_.w[i]) * p_.r[i] <= vs &&
+                 !(grain_flags_[i] & (kAccelSet | kCandidate));
     if (quiet && intruder_.present) {
       double dx = p_.x[i] - intruder_.x, dy = p_.y[i] - intruder_.y;
       opt_.box.min_image(dx, dy);

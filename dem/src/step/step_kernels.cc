@@ -144,6 +144,13 @@ namespace {
 
 const bool kHaveAvx512 = __builtin_cpu_supports("avx512f");
 
+/// Stores the lanes of @p v whose bits differ from @p old at @p p (no dirty cache line for
+/// the lanes that keep their value).
+__attribute__((target("avx512f"))) inline void store_changed(double* p, __m512d v, __m512d old) {
+  _mm512_mask_storeu_pd(
+      p, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(v), _mm512_castpd_si512(old)), v);
+}
+
 /// PeriodicBox::wrap and min_image on eight lanes, bit for bit.
 struct BoxLanes {
   __m512d wlx, wly, nwlx, nwly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
@@ -218,19 +225,21 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       const __m512d qs = _mm512_loadu_pd(k.sq + i);
       const __m512d inv_m = _mm512_loadu_pd(k.inv_m + i);
       // tq = -r qs (unary minus of r, then the product)
-      const __m512d mr = _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(k.r + i)), sign));
+      const __m512d mr = _mm512_castsi512_pd(
+          _mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(k.r + i)), sign));
       __m512d axn = _mm512_add_pd(_mm512_mul_pd(fx, inv_m), gx);
       __m512d ayn = _mm512_add_pd(_mm512_mul_pd(fy, inv_m), gy);
       __m512d aln = _mm512_mul_pd(_mm512_mul_pd(mr, qs), _mm512_loadu_pd(k.inv_i + i));
       const __m512d ax0 = _mm512_loadu_pd(k.ax + i), ay0 = _mm512_loadu_pd(k.ay + i);
       const __m512d al0 = _mm512_loadu_pd(k.al + i);
-      _mm512_mask_storeu_pd(k.ax + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(axn), _mm512_castpd_si512(ax0)), axn);
-      _mm512_mask_storeu_pd(k.ay + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(ayn), _mm512_castpd_si512(ay0)), ayn);
-      _mm512_mask_storeu_pd(k.al + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(aln), _mm512_castpd_si512(al0)), aln);
+      store_changed(k.ax + i, axn, ax0);
+      store_changed(k.ay + i, ayn, ay0);
+      store_changed(k.al + i, aln, al0);
       // sums of the touched lanes zeroed for the next step; touched cleared; the flag
       // "accelerations set" on exactly the touched lanes (no lane is a candidate)
-      const __mmask8 touched = _mm512_test_epi64_mask(
-          _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(t))), _mm512_set1_epi64(0xff));
+      const __mmask8 touched =
+          _mm512_test_epi64_mask(_mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(t))),
+                                 _mm512_set1_epi64(0xff));
       _mm512_mask_storeu_pd(k.sfx + i, touched, zero);
       _mm512_mask_storeu_pd(k.sfy + i, touched, zero);
       _mm512_mask_storeu_pd(k.sq + i, touched, zero);
@@ -260,8 +269,8 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       __m512d y = _mm512_add_pd(y0, _mm512_mul_pd(dt, vy));
       box.wrap(x, y);
       // positions too are stored only where a bit changes
-      _mm512_mask_storeu_pd(k.x + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(x0)), x);
-      _mm512_mask_storeu_pd(k.y + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(y), _mm512_castpd_si512(y0)), y);
+      store_changed(k.x + i, x, x0);
+      store_changed(k.y + i, y, y0);
       __m512d dx = _mm512_sub_pd(x, _mm512_cvtps_pd(_mm256_loadu_ps(k.xb + i)));
       __m512d dy = _mm512_sub_pd(y, _mm512_cvtps_pd(_mm256_loadu_ps(k.yb + i)));
       box.min_image(dx, dy);
@@ -269,9 +278,9 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
       md2 = _mm512_max_pd(d2, md2);  // a NaN d2 is ignored, as by the scalar test
     }
     // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
-    _mm512_mask_storeu_pd(k.vx + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(vx), _mm512_castpd_si512(vx0)), vx);
-    _mm512_mask_storeu_pd(k.vy + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(vy), _mm512_castpd_si512(vy0)), vy);
-    _mm512_mask_storeu_pd(k.w + i, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(w), _mm512_castpd_si512(w0)), w);
+    store_changed(k.vx + i, vx, vx0);
+    store_changed(k.vy + i, vy, vy0);
+    store_changed(k.w + i, w, w0);
   }
   if (kDrift) max_d2 = _mm512_reduce_max_pd(md2);
   return i;

@@ -57,8 +57,8 @@ struct PlainKick {
 /// half kick (and with drift, the next half kick and drift) of grains without any force
 /// (flags and touched 0; groups of eight sleepers are skipped), and also of grains with pair
 /// forces (summed in sfx, sfy, sq) and their accelerations; stops at the first group with a
-/// grain it does not handle (a candidate of the intruder; a touched shared grain), or fewer than eight
-/// rows before hi. Returns the row where it stopped (i itself when it did nothing or without
+/// grain it does not handle (a candidate of the intruder; a touched shared grain), or fewer than
+/// eight rows before hi. Returns the row where it stopped (i itself when it did nothing or without
 /// AVX-512); max_d2 is raised to the largest squared displacement from (xb, yb) of the
 /// grains it moved (drift only).
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2);

@@ -87,7 +87,8 @@ void DemSystem::plan_split() {
   for_each_gap([&](double delta, double, double, int i, int j) {
     if (j >= 0 && delta > 0) cum[static_cast<std::size_t>(i) + 1] += kContactCost;
   });
-  for (int i = 0; i < ng; ++i) cum[static_cast<std::size_t>(i) + 1] += cum[static_cast<std::size_t>(i)];
+  for (int i = 0; i < ng; ++i)
+    cum[static_cast<std::size_t>(i) + 1] += cum[static_cast<std::size_t>(i)];
   // Each thread's speed from the last plan (work per busy second), averaged over plans; equal
   // speeds at first.
   const auto nt = static_cast<std::size_t>(team);
@@ -160,7 +161,8 @@ void DemSystem::plan_split() {
   }
   split_work_.resize(nt);
   for (std::size_t t = 0; t < nt; ++t) {
-    split_work_[t] = cum[static_cast<std::size_t>(split_[t + 1])] - cum[static_cast<std::size_t>(split_[t])];
+    split_work_[t] =
+        cum[static_cast<std::size_t>(split_[t + 1])] - cum[static_cast<std::size_t>(split_[t])];
   }
   split_busy_.assign(nt, 0.0);
   split_steps_ = 0;

@@ -312,8 +312,8 @@ RunCheckpoint decode_checkpoint(const std::vector<unsigned char>& bytes) {
   Reader r(bytes.data() + sizeof kMagic, body - sizeof kMagic);
   const auto format = r.get<std::uint32_t>();
   if (format != kFormat) {
-    throw CheckpointError("checkpoint format " + std::to_string(format) + ", this grainlift reads " +
-                          std::to_string(kFormat));
+    throw CheckpointError("checkpoint format " + std::to_string(format) +
+                          ", this grainlift reads " + std::to_string(kFormat));
   }
   if (fnv1a(bytes.data(), body) != stored) {
     throw CheckpointError("corrupt or truncated checkpoint (checksum mismatch)");

@@ -17,9 +17,9 @@
 //
 // advance(n) runs n steps as segments between list rebuilds (step_schedule.cc): on one thread
 // a plain loop; on a team, each thread on its own range of rows. The team does not change a bit
-// of the results (every per-grain sum is taken in pair order). Inside advance(), stage 3 of one step and
-// stage 1 of the next are one pass over the particle arrays; the last step of a call ends with
-// stage 3 alone, so the state between calls is that of single steps.
+// of the results (every per-grain sum is taken in pair order). Inside advance(), stage 3 of one
+// step and stage 1 of the next are one pass over the particle arrays; the last step of a call ends
+// with stage 3 alone, so the state between calls is that of single steps.
 #include "grainlift/dem/system/dem_system.h"
 
 #include <algorithm>
@@ -68,7 +68,8 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
     p_.r[i] = d.r;
     rmax = std::max(rmax, d.r);
     if (is_grain) {
-      if (!(d.mass > 0) || !(d.r > 0)) throw ConfigError("every grain needs mass > 0 and radius > 0");
+      if (!(d.mass > 0) || !(d.r > 0))
+        throw ConfigError("every grain needs mass > 0 and radius > 0");
       p_.vx[i] = d.vx;
       p_.vy[i] = d.vy;
       p_.w[i] = d.w;
@@ -195,7 +196,8 @@ void DemSystem::step_boundaries() {
   }
   const std::array<double, 2> f = frozen_force(lid_->begin(), lid_->end());
   const LidMove m = lid_->advance(f[0], f[1], opt_.dt);
-  move_frozen(lid_->begin(), lid_->end(), m.dx, m.dy, lid_->shear_velocity(), lid_->state().velocity);
+  move_frozen(lid_->begin(), lid_->end(), m.dx, m.dy, lid_->shear_velocity(),
+              lid_->state().velocity);
 }
 
 void DemSystem::set_friction(double mu, double mu_intruder) {
@@ -367,7 +369,8 @@ void DemSystem::advance(long long n) {
     choose_team();
     const auto t0 = std::chrono::steady_clock::now();
     const long long k = team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
-    account_segment(k, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    account_segment(k,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     done += k;
     sleep_grain_steps_ += static_cast<double>(sleeping_now_) * static_cast<double>(k);
     if (drifted_) build_lists();

@@ -75,7 +75,7 @@ struct DemConfig {
   std::array<double, 2> intruder_position{0, 0};  ///< m, at t = 0
   std::array<double, 2> intruder_velocity{1, 0};  ///< m/s
   double intruder_omega = 0;            ///< rad/s, counter-clockwise positive
-  double spin_ramp_time = 0;            ///< s, omega ramps linearly from 0 over this time (0: at once)
+  double spin_ramp_time = 0;  ///< s, omega ramps linearly from 0 over this time (0: at once)
 
   // ---- run control
   double dt = 2e-6;                ///< s

@@ -20,7 +20,7 @@ struct IntruderSample {
 struct IntruderContact {
   std::int32_t sample = 0;  ///< index into DemOutput::samples
   double theta = 0;   ///< rad, contact angle from +x, counter-clockwise, in (-pi, pi]
-  double fn = 0;      ///< N/m, normal force on the intruder, positive when compressive (pushing inward)
+  double fn = 0;  ///< N/m, normal force on the intruder, positive when compressive (pushing inward)
   double ft = 0;      ///< N/m, tangential force on the intruder, positive counter-clockwise
   bool slipping = false;  ///< |ft| reached mu |fn| (to relative 1e-9)
 };
@@ -32,7 +32,8 @@ struct FieldAverages {
   std::vector<double> area_fraction;            ///< Kumar eq. (A6)
   std::vector<double> vx, vy;                   ///< m/s, relative to the intruder, eq. (A3)-(A4)
   std::vector<double> granular_temperature;     ///< m^2/s^2, eq. (A7)
-  std::vector<double> sxx, sxy, syy;            ///< Pa*m (2D stress, N/m), contact stress, compressive negative
+  std::vector<double> sxx, sxy,
+      syy;  ///< Pa*m (2D stress, N/m), contact stress, compressive negative
 };
 
 /// The pressure-controlled lid at one force-sample time (DemConfig::lid_pressure > 0).
@@ -62,7 +63,8 @@ struct DemOutput {
   bool packing_from_cache = false;
   long long steps = 0;                    ///< steps run
   long long planned_steps = 0;            ///< steps of the whole travel
-  bool frictionless_path = false;         ///< contacts by normal force only (mu = 0, DemConfig::frictionless_path)
+  bool frictionless_path =
+      false;  ///< contacts by normal force only (mu = 0, DemConfig::frictionless_path)
   /// sleeping grains (DemConfig::sleep_speed >= 0): mean fraction of the grains asleep over
   /// the run's steps, grains woken by contact, list builds forced by a wake
   double sleeping_fraction = 0;
@@ -73,8 +75,9 @@ struct DemOutput {
   /// measured (a run resumed from a checkpoint)
   BedFingerprint bed;
   double bed_max_overlap = 0;  ///< largest overlap / smaller diameter of the prepared bed at rest
-  bool interrupted = false;              ///< ended by RunControl::interrupted (a checkpoint was taken)
-  long long resumed_from_step = -1;      ///< the step of the checkpoint it went on from (-1: none)             ///< a RunMonitor ended the run before the travel
+  bool interrupted = false;    ///< ended by RunControl::interrupted (a checkpoint was taken)
+  long long resumed_from_step = -1;  ///< the step of the checkpoint it went on from (-1: none) ///<
+                                     ///< a RunMonitor ended the run before the travel
   int list_builds = 0;                    ///< Verlet-list builds during the run
   int threads_used = 1;                   ///< threads the step ran on (DemSystem::threads_used)
   int threads_allowed = 1;                ///< threads it could use (DemSystem::threads_allowed)

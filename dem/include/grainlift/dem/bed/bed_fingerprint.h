@@ -16,7 +16,8 @@ struct BedFingerprint {
   double contacts_per_grain = 0;
   /// mobile grains with fewer than 2 contacts (none can carry a load in 2D with friction)
   double rattler_fraction = 0;
-  /// fabric <n n> over grain-grain contacts (trace 1; 0.5, 0, 0.5 when isotropic); 0 without contacts
+  /// fabric <n n> over grain-grain contacts (trace 1; 0.5, 0, 0.5 when isotropic); 0 without
+  /// contacts
   double fabric_xx = 0, fabric_xy = 0, fabric_yy = 0;
   /// surface gap to the nearest neighbour (grain or wall disk) of each mobile grain, in mean
   /// diameters (negative: overlap): bin edges (gap_edges, n + 1; gaps beyond the last edge

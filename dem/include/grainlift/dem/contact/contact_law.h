@@ -17,8 +17,8 @@ struct LawCoefficients {
   double gamma_n = 0, gamma_t = 0;  ///< 1/(m s)
   // Guillard 2014 Table I, written for any R_eff and m_eff:
   //   kn* = (2/3) E/(1-nu^2) sqrt(R_eff), kt* = 3(1-nu)/(2-nu) kn*,
-  //   gamma_n/delta^(1/4) = sqrt(5) |beta| sqrt(kn* m_eff), gamma_t/delta^(1/4) = sqrt(10/3) |beta| sqrt(kt* m_eff),
-  //   beta = ln(e)/sqrt(ln^2(e) + pi^2).
+  //   gamma_n/delta^(1/4) = sqrt(5) |beta| sqrt(kn* m_eff), gamma_t/delta^(1/4) = sqrt(10/3) |beta|
+  //   sqrt(kt* m_eff), beta = ln(e)/sqrt(ln^2(e) + pi^2).
   double hertz_kn_factor = 0;  ///< Pa, (2/3) E/(1-nu^2)
   double hertz_kt_ratio = 0;   ///< -, 3(1-nu)/(2-nu)
   double hertz_beta = 0;       ///< -, |beta|
@@ -41,9 +41,10 @@ struct ContactKinematics {
   double delta = 0;       ///< m, overlap r_i + r_j - |x_i - x_j| (> 0)
   double r_eff = 0;       ///< m, r_i r_j / (r_i + r_j) = d_i d_j / (2 (d_i + d_j))
   double m_eff = 0;       ///< kg, m_i m_j / (m_i + m_j); m_i for a frozen or prescribed partner
-  double vn = 0;          ///< m/s, (v_i - v_j).n at the contact point, time t+dt (negative approaching)
+  double vn = 0;  ///< m/s, (v_i - v_j).n at the contact point, time t+dt (negative approaching)
   double vtx = 0, vty = 0;  ///< m/s, tangential relative velocity at the contact point, time t+dt
-  double dsx = 0, dsy = 0;  ///< m, tangential relative displacement of the contact point from t to t+dt
+  double dsx = 0,
+         dsy = 0;  ///< m, tangential relative displacement of the contact point from t to t+dt
   double mu = 0;          ///< Coulomb coefficient of this pair
 };
 

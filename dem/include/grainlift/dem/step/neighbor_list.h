@@ -40,7 +40,8 @@ class NeighborList {
   std::vector<double> sx, sy;       ///< m, tangential spring of each pair (history)
   std::vector<double> fx, fy;       ///< N, force on i of each pair (0 when not touching)
   std::vector<double> q;            ///< N, n x F_t (torque on i is -r_i q, on j -r_j q)
-  std::vector<std::int64_t> rfirst; ///< pairs where particle j is the partner: [rfirst[j], rfirst[j+1])
+  std::vector<std::int64_t>
+      rfirst;  ///< pairs where particle j is the partner: [rfirst[j], rfirst[j+1])
   std::vector<std::int64_t> rpair;
 
  private:

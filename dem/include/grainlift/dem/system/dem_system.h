@@ -73,7 +73,8 @@ struct IntruderContacts {
   std::vector<double> sx, sy;    ///< m, tangential springs
   std::vector<double> fx, fy;    ///< N, force on the grain
   std::vector<double> fn;        ///< N, normal force on the grain (positive repulsive)
-  std::vector<double> ft;        ///< N, tangential force on the grain along (-n_y, n_x), n intruder->grain
+  std::vector<double>
+      ft;  ///< N, tangential force on the grain along (-n_y, n_x), n intruder->grain
   std::vector<double> nx, ny;    ///< unit normal from the intruder to the grain
   std::vector<std::uint8_t> touching, slipping;
 };
@@ -101,8 +102,8 @@ class DemSystem {
 
   /// @brief Advance by n time steps. The same results as n calls of step(), bit for bit, but
   /// faster: one OpenMP parallel region per n steps (per list rebuild), each thread on its own
-  /// range of rows, and the second half kick of a step fused with the half kick and drift of the next
-  /// (one pass over the particle arrays). The state is only observable between calls.
+  /// range of rows, and the second half kick of a step fused with the half kick and drift of the
+  /// next (one pass over the particle arrays). The state is only observable between calls.
   void advance(long long n);
 
   /// @brief The state between two advance() calls, for a checkpoint (system_snapshot.cc).
@@ -177,7 +178,8 @@ class DemSystem {
   /// per step. n calls of move_frozen each followed by step() give the bits of one move_frozen,
   /// drive_frozen(..., n - 1) and advance(n). Drives act in the order they were added;
   /// set_bodies() drops them; a snapshot (system_snapshot.cc) does not hold them.
-  void drive_frozen(int begin, int end, double dx, double dy, double vx, double vy, long long steps);
+  void drive_frozen(int begin, int end, double dx, double dy, double vx, double vy,
+                    long long steps);
   /// The lid, or nullptr without one.
   const PressureLid* lid() const { return lid_ ? &*lid_ : nullptr; }
   /// @brief Force (N; x, y) of the grains on the frozen disks [begin, end) at the last step,
