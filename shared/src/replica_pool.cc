@@ -55,6 +55,75 @@ std::optional<std::vector<double>> pool_field(const std::vector<RunResult>& rs, 
   return mean_of(arrays);
 }
 
+/// The pooled drag, lift and torque of the replicas' means into @p p (pooled_mean; each
+/// replica's value kept in /diagnostics series).
+void pool_means(const std::vector<RunResult>& rs, RunResult& p) {
+  const std::size_t n = rs.size();
+  std::vector<double> drag, lift, torque, contacts, drag_se, lift_se, torque_se;
+  bool all_errors = true;
+  std::int64_t samples = 0;
+  for (const auto& r : rs) {
+    drag.push_back(r.means->drag);
+    lift.push_back(r.means->lift);
+    torque.push_back(r.means->torque);
+    if (r.means->contacts) contacts.push_back(*r.means->contacts);
+    all_errors = all_errors && r.means->drag_stderr && r.means->lift_stderr &&
+                 r.means->torque_stderr;
+    if (all_errors) {
+      drag_se.push_back(*r.means->drag_stderr);
+      lift_se.push_back(*r.means->lift_stderr);
+      torque_se.push_back(*r.means->torque_stderr);
+    }
+    samples += r.means->samples;
+  }
+  if (!all_errors) {  // pooled from the spread alone
+    drag_se.clear();
+    lift_se.clear();
+    torque_se.clear();
+  }
+  if (n >= 2) {
+    MeanForces& m = *p.means;
+    const PooledMean d = pooled_mean(drag, drag_se), l = pooled_mean(lift, lift_se),
+                     t = pooled_mean(torque, torque_se);
+    m.drag = d.mean;
+    m.lift = l.mean;
+    m.torque = t.mean;
+    m.drag_stderr = d.error;
+    m.lift_stderr = l.error;
+    m.torque_stderr = t.error;
+    if (contacts.size() == n) m.contacts = pooled_mean(contacts).mean;
+    m.samples = samples;
+    m.blocks = std::int64_t(n);
+  }
+  p.diagnostics.series["replica_drag"] = drag;
+  p.diagnostics.series["replica_lift"] = lift;
+  p.diagnostics.series["replica_torque"] = torque;
+}
+
+/// The replicas' mean surface stresses and their pooled errors at each angle into @p p.
+void pool_surface(const std::vector<RunResult>& rs, RunResult& p) {
+  std::vector<const std::vector<double>*> sn, st, en, et;
+  bool all_errors = true;
+  for (const auto& r : rs) {
+    sn.push_back(&r.surface->sigma_n);
+    st.push_back(&r.surface->sigma_t);
+    all_errors = all_errors && r.surface->sigma_n_stderr && r.surface->sigma_t_stderr;
+    if (all_errors) {
+      en.push_back(&*r.surface->sigma_n_stderr);
+      et.push_back(&*r.surface->sigma_t_stderr);
+    }
+  }
+  if (!all_errors) {
+    en.clear();
+    et.clear();
+  }
+  std::vector<double> se_n, se_t;
+  p.surface->sigma_n = mean_of(sn, &se_n, en);
+  p.surface->sigma_t = mean_of(st, &se_t, et);
+  p.surface->sigma_n_stderr = std::move(se_n);
+  p.surface->sigma_t_stderr = std::move(se_t);
+}
+
 }  // namespace
 
 RunResult pool_replicas(const std::vector<RunResult>& rs) {
@@ -68,70 +137,11 @@ RunResult pool_replicas(const std::vector<RunResult>& rs) {
     all_hist = all_hist && r.histogram.has_value();
     all_fields = all_fields && r.fields.has_value();
   }
-  if (all_means) {
-    std::vector<double> drag, lift, torque, contacts, drag_se, lift_se, torque_se;
-    bool all_errors = true;
-    std::int64_t samples = 0;
-    for (const auto& r : rs) {
-      drag.push_back(r.means->drag);
-      lift.push_back(r.means->lift);
-      torque.push_back(r.means->torque);
-      if (r.means->contacts) contacts.push_back(*r.means->contacts);
-      all_errors = all_errors && r.means->drag_stderr && r.means->lift_stderr &&
-                   r.means->torque_stderr;
-      if (all_errors) {
-        drag_se.push_back(*r.means->drag_stderr);
-        lift_se.push_back(*r.means->lift_stderr);
-        torque_se.push_back(*r.means->torque_stderr);
-      }
-      samples += r.means->samples;
-    }
-    if (!all_errors) {  // pooled from the spread alone
-      drag_se.clear();
-      lift_se.clear();
-      torque_se.clear();
-    }
-    if (n >= 2) {
-      MeanForces& m = *p.means;
-      const PooledMean d = pooled_mean(drag, drag_se), l = pooled_mean(lift, lift_se),
-                       t = pooled_mean(torque, torque_se);
-      m.drag = d.mean;
-      m.lift = l.mean;
-      m.torque = t.mean;
-      m.drag_stderr = d.error;
-      m.lift_stderr = l.error;
-      m.torque_stderr = t.error;
-      if (contacts.size() == n) m.contacts = pooled_mean(contacts).mean;
-      m.samples = samples;
-      m.blocks = std::int64_t(n);
-    }
-    p.diagnostics.series["replica_drag"] = drag;
-    p.diagnostics.series["replica_lift"] = lift;
-    p.diagnostics.series["replica_torque"] = torque;
-  }
+  if (all_means) pool_means(rs, p);
   p.diagnostics.counts["replicas"] = static_cast<long long>(n);
   if (n < 2) return p;
   if (all_surface) {
-    std::vector<const std::vector<double>*> sn, st, en, et;
-    bool all_errors = true;
-    for (const auto& r : rs) {
-      sn.push_back(&r.surface->sigma_n);
-      st.push_back(&r.surface->sigma_t);
-      all_errors = all_errors && r.surface->sigma_n_stderr && r.surface->sigma_t_stderr;
-      if (all_errors) {
-        en.push_back(&*r.surface->sigma_n_stderr);
-        et.push_back(&*r.surface->sigma_t_stderr);
-      }
-    }
-    if (!all_errors) {
-      en.clear();
-      et.clear();
-    }
-    std::vector<double> se_n, se_t;
-    p.surface->sigma_n = mean_of(sn, &se_n, en);
-    p.surface->sigma_t = mean_of(st, &se_t, et);
-    p.surface->sigma_n_stderr = std::move(se_n);
-    p.surface->sigma_t_stderr = std::move(se_t);
+    pool_surface(rs, p);
   } else {
     p.surface.reset();
   }

@@ -59,7 +59,8 @@ void validate(const ShearCellConfig& c, const DemConfig& dc) {
   // scale sqrt(P / rho_s) (the impact speeds of the cell)
   const double v = std::max(c.wall_speed, std::sqrt(c.pressure / dc.density));
   const double m = dc.density * kPi * 0.25 * d * d;
-  const double tc = hertz_collision_time(LawCoefficients::from(dc.contact), 0.5 * d, 0.5 * d, m, m, v);
+  const double tc =
+      hertz_collision_time(LawCoefficients::from(dc.contact), 0.5 * d, 0.5 * d, m, m, v);
   if (dc.dt > dc.max_dt_fraction * tc) {
     refuse("dt = " + str(dc.dt) + " s exceeds " + str(dc.max_dt_fraction) +
            " of the binary collision time " + str(tc) + " s at " + str(v) + " m/s; use dt <= " +
@@ -151,6 +152,48 @@ void fit_profile(ShearCellResult& r, double lo, double hi, double speed) {
   r.shear_rate = slope;
   r.profile_r2 = ss_tot > 0 ? 1.0 - ss_res / ss_tot : 0.0;
   r.profile_max_deviation = speed > 0 ? worst / speed : 0.0;
+}
+
+/// The area fraction of the grains whose centres lie in the band [lo, hi) of a cell
+/// @p width wide (0 for an empty band).
+double band_area_fraction(const DemSystem& s, double lo, double hi, double width) {
+  const auto& pa = s.particles();
+  double area = 0;
+  for (int i = 0; i < s.grains(); ++i) {
+    if (pa.y[i] >= lo && pa.y[i] < hi) area += kPi * pa.r[i] * pa.r[i];
+  }
+  return hi > lo ? area / (width * (hi - lo)) : 0.0;
+}
+
+/// The window's series (pressure, shear stress, bottom shear stress, lid height, area
+/// fraction), each sample in order.
+struct CellSeries {
+  const std::vector<double>* p;
+  const std::vector<double>* tau;
+  const std::vector<double>* tau_bottom;
+  const std::vector<double>* height;
+  const std::vector<double>* phi;
+};
+
+/// The block means of the measuring window's series (from r.window_begin on), the friction
+/// tau / P, the mean velocity profile and its fit into @p r.
+void window_statistics(const ShearCellConfig& c, const CellSeries& x, const ProfileSums& profile,
+                       double d, ShearCellResult& r) {
+  const std::size_t b = r.window_begin, e = r.samples.size();
+  const auto stat = [&](const std::vector<double>* v) { return block_stat(*v, b, e, c.blocks); };
+  r.pressure = stat(x.p);
+  r.shear_stress = stat(x.tau);
+  r.bottom_shear_stress = stat(x.tau_bottom);
+  r.lid_height = stat(x.height);
+  r.area_fraction = stat(x.phi);
+  r.friction = block_ratio(*x.tau, *x.p, b, e, c.blocks);
+  for (std::size_t k = 0; k < profile.vx.size(); ++k) {
+    r.profile_y.push_back((static_cast<double>(k) + 0.5) * d);
+    r.profile_count.push_back(profile.count[k]);
+    r.profile_vx.push_back(profile.count[k] ? profile.vx[k] / profile.count[k] : 0.0);
+  }
+  const double layer = c.wall_layer * d;
+  fit_profile(r, layer, r.lid_height.mean - layer, c.wall_speed);
 }
 
 }  // namespace
@@ -247,20 +290,14 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
       smp.shear_stress = -(lid.state().impulse_x - ix) / span;
       smp.bottom_shear_stress = s.frozen_force(bottom_begin, bottom_end)[0] / width;
       smp.lid_height = lid.state().y - y_bottom;
-      const auto& pa = s.particles();
-      const double lo = y_bottom + layer, hi = lid.state().y - layer;
-      double area = 0;
-      for (int i = 0; i < s.grains(); ++i) {
-        if (pa.y[i] >= lo && pa.y[i] < hi) area += kPi * pa.r[i] * pa.r[i];
-      }
-      smp.area_fraction = hi > lo ? area / (width * (hi - lo)) : 0.0;
+      smp.area_fraction = band_area_fraction(s, y_bottom + layer, lid.state().y - layer, width);
       const double ov = s.take_max_overlap_fraction();
       if (!std::isfinite(smp.pressure) || !std::isfinite(smp.shear_stress) ||
           ov > dc.max_overlap_fraction) {
         throw RunFailure("shear cell: step " + str(r.steps) + " (t = " + str(smp.time) +
                          " s): pressure " + str(smp.pressure) + " N/m, overlap " + str(ov) +
-                         " of a diameter (max " + str(dc.max_overlap_fraction) +
-                         "); reduce dt (" + str(dc.dt) + " s) or U (" + str(c.wall_speed) + " m/s)");
+                         " of a diameter (max " + str(dc.max_overlap_fraction) + "); reduce dt (" +
+                         str(dc.dt) + " s) or U (" + str(c.wall_speed) + " m/s)");
       }
       r.samples.push_back(smp);
       p.push_back(smp.pressure);
@@ -286,21 +323,7 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
     r.run_in_steps += c.measure_steps;  // this window was still run-in
   }
 
-  const std::size_t b = r.window_begin, e = r.samples.size();
-  const auto stat = [&](const std::vector<double>& x) { return block_stat(x, b, e, c.blocks); };
-  r.pressure = stat(p);
-  r.shear_stress = stat(tau);
-  r.bottom_shear_stress = stat(tau_bottom);
-  r.lid_height = stat(height);
-  r.area_fraction = stat(phi);
-  r.friction = block_ratio(tau, p, b, e, c.blocks);
-
-  for (std::size_t k = 0; k < profile.vx.size(); ++k) {
-    r.profile_y.push_back((static_cast<double>(k) + 0.5) * d);
-    r.profile_count.push_back(profile.count[k]);
-    r.profile_vx.push_back(profile.count[k] ? profile.vx[k] / profile.count[k] : 0.0);
-  }
-  fit_profile(r, layer, r.lid_height.mean - layer, c.wall_speed);
+  window_statistics(c, {&p, &tau, &tau_bottom, &height, &phi}, profile, d, r);
   r.inertial_number = r.shear_rate * d / std::sqrt(r.pressure.mean / dc.density);
   return r;
 }
