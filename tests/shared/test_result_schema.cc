@@ -1,6 +1,7 @@
 // The schema table drives the result file: every entry of a result that has all of them is in
 // the file and reads back exactly (tolerance 0: the same bits); a file without a required
-// entry is refused with the reader's message naming the file and the entry.
+// entry is refused with the reader's message naming the file and the entry; docs/schema.md
+// holds the table that `grainlift schema --markdown` prints.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -8,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "grainlift/shared/errors.h"
@@ -179,4 +181,16 @@ TEST(ResultSchema, EntriesAreUniqueAndInTheirGroups) {
     if (e.kind == SchemaKind::dataset && e.type == SchemaType::float64_array)
       EXPECT_STRNE(e.unit, "") << e.path() << ": a numeric dataset carries its units";
   }
+}
+
+TEST(ResultSchema, DocsHoldTheGeneratedTable) {
+  std::ifstream in(GRAINLIFT_SOURCE_DIR "/docs/schema.md");
+  ASSERT_TRUE(in) << "docs/schema.md missing";
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string begin = "<!-- schema:begin -->\n", end = "<!-- schema:end -->";
+  const std::size_t i = doc.find(begin), j = doc.find(end);
+  ASSERT_NE(i, std::string::npos) << "docs/schema.md has no " << begin;
+  ASSERT_NE(j, std::string::npos) << "docs/schema.md has no " << end;
+  EXPECT_EQ(doc.substr(i + begin.size(), j - i - begin.size()), schema_markdown())
+      << "regenerate it with `make docs-schema`";
 }
