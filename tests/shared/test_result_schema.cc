@@ -178,8 +178,9 @@ TEST(ResultSchema, EntriesAreUniqueAndInTheirGroups) {
     EXPECT_TRUE(groups.count(e.group)) << e.path() << ": its group row is not before it";
     if (e.kind == SchemaKind::group) groups.insert(e.name);
     EXPECT_TRUE(e.get || e.get_all) << e.path();
-    if (e.kind == SchemaKind::dataset && e.type == SchemaType::float64_array)
+    if (e.kind == SchemaKind::dataset && e.type == SchemaType::float64_array) {
       EXPECT_STRNE(e.unit, "") << e.path() << ": a numeric dataset carries its units";
+    }
   }
 }
 
