@@ -7,7 +7,7 @@ DEMO_SOLVER ?= both
 CMAKE_FLAGS ?=
 PYTHON ?= /usr/bin/python3
 
-.PHONY: all deps configure build demo test test-fast sanitize bench docs-keys clean
+.PHONY: all deps configure build demo test test-fast sanitize bench docs-keys docs-schema clean
 
 all: build
 
@@ -59,6 +59,15 @@ bench: build
 # regenerate the key table of docs/case-format.md from the registry
 docs-keys: build
 	$(PYTHON) scripts/update_case_docs.py $(BUILD)/bin/grainlift docs/case-format.md
+
+# regenerate the table of docs/schema.md (between its schema markers) from the schema table
+docs-schema: build
+	$(BUILD)/bin/grainlift schema --markdown > $(BUILD)/schema-table.md
+	awk -v table=$(BUILD)/schema-table.md \
+	  '/<!-- schema:end -->/ { while ((getline line < table) > 0) print line; skip = 0 } \
+	   !skip { print } /<!-- schema:begin -->/ { skip = 1 }' docs/schema.md > $(BUILD)/schema.md
+	cmp -s $(BUILD)/schema.md docs/schema.md || { cp $(BUILD)/schema.md docs/schema.md; \
+	  echo "updated docs/schema.md"; }
 
 clean:
 	rm -rf $(BUILD) $(BUILD).configure.log

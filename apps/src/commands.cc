@@ -378,6 +378,9 @@ int main_with_args(int argc, char** argv) {
   bool markdown = false;
   auto* keys = app.add_subcommand("keys", "list every case key with unit, default and range");
   keys->add_flag("--markdown", markdown, "as the Markdown table of docs/case-format.md");
+  auto* schema = app.add_subcommand("schema", "list every group, attribute and dataset of the "
+                                              "result files with unit, shape and presence");
+  schema->add_flag("--markdown", markdown, "as the Markdown table of docs/schema.md");
 
   try {
     app.parse(argc, argv);
@@ -397,6 +400,7 @@ int main_with_args(int argc, char** argv) {
     if (*import_lammps)
       return cmd_import_lammps(import_dir,
                                import_out.empty() ? import_dir + "/grainlift" : import_out);
+    if (*schema) return cmd_schema(markdown);
     if (*keys) {
       if (markdown) fmt::print("{}", keys_markdown());
       else

@@ -1,4 +1,5 @@
-// The subcommands of `grainlift` (run, validate, compare, sweep, calibrate, report, keys).
+// The subcommands of `grainlift` (run, validate, compare, sweep, calibrate, report, keys,
+// schema).
 #pragma once
 
 #include <string>
@@ -25,6 +26,10 @@ int cmd_calibrate(const CalibrateArgs& a);
 /// `grainlift report DIR` (report_command.cc): runs scripts/report.py on a result folder, which
 /// writes DIR/report.html; exit code. A folder without dem.h5 or fem.h5 is an InputError.
 int cmd_report(const std::string& dir);
+
+/// `grainlift schema [--markdown]` (schema_command.cc): prints the output file's schema table,
+/// as the Markdown of docs/schema.md with @p markdown; exit code.
+int cmd_schema(bool markdown);
 
 /// `grainlift export lammps CASE DIR` (lammps_command.cc): the case's bed and scene as a
 /// LAMMPS input in DIR; exit code.

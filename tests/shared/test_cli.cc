@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "grainlift/shared/result_file.h"
+#include "grainlift/shared/result_schema.h"
 #include "grainlift/shared/surface_stress.h"
 #include "run_command.h"
 
@@ -32,11 +34,24 @@ const std::string src = GRAINLIFT_SOURCE_DIR;
 }  // namespace
 
 TEST(Cli, HelpForEverySubcommandExitsZero) {
-  for (const char* sub : {"", "run", "validate", "compare", "sweep", "keys"}) {
+  for (const char* sub : {"", "run", "validate", "compare", "sweep", "keys", "schema"}) {
     const Outcome o = run(std::string(sub) + " --help");
     EXPECT_EQ(o.code, 0) << sub << "\n" << o.output;
     EXPECT_NE(o.output.find("Usage"), std::string::npos) << o.output;
   }
+}
+
+TEST(Cli, SchemaPrintsTheTable) {
+  // `grainlift schema --markdown` is exactly the table docs/schema.md embeds; the plain text
+  // has one line per entry below its header.
+  const Outcome md = run("schema --markdown");
+  EXPECT_EQ(md.code, 0);
+  EXPECT_EQ(md.output, schema_markdown());
+  const Outcome text = run("schema");
+  EXPECT_EQ(text.code, 0);
+  EXPECT_EQ(text.output, schema_text());
+  EXPECT_EQ(std::count(text.output.begin(), text.output.end(), '\n'),
+            std::ptrdiff_t(result_schema().size() + 1));
 }
 
 TEST(Cli, ValidateAcceptsShippedCasesAndRejectsBadOnesWithExitCode2) {
