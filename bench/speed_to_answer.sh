@@ -21,10 +21,10 @@
 #   window    the co-moving window (dem.window_width) on the reduced dilute bed against the
 #             60 d box alone and a 180 d box, 150 d of travel, three beds; then seed 1 with
 #             the window and in the 180 d box side by side, each pinned to a core (the saving)
-#             (scripts/window_study.py; the dense bed's study takes ~40 min: docs/performance.md)
+#             (studies/comoving_window/window_study.py; the dense bed's study takes ~40 min: docs/performance.md)
 #   fem       the FEM's error against time on the demo geometry, refinement 0-4 with nested
-#             iteration, 0-3 without (scripts/fem_pareto.py)
-#   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
+#             iteration, 0-3 without (studies/fem_pareto/fem_pareto.py)
+#   error     relative error of drag and lift against wall time (studies/dem_error_vs_time/error_vs_time.py) for
 #             the reduced Kumar run and cases/guillard2014/gradient.toml
 #
 # Environment: REPS (repetitions of every timed run, default 3; the two runs of a ratio
@@ -233,7 +233,7 @@ fi
 if has window; then
   echo; echo "## Co-moving window against the 60 d box alone and a 180 d box (reduced dilute, one thread)"
   rm -rf "$WORK/window"
-  "$PY" "$ROOT/scripts/window_study.py" "$GL" "$WORK/window" --case "$ROOT/cases/kumar2019/reduced_phi035.toml" \
+  "$PY" "$ROOT/studies/comoving_window/window_study.py" "$GL" "$WORK/window" --case "$ROOT/cases/kumar2019/reduced_phi035.toml" \
     --v0 1.0 --omega 40 --seeds 1 2 3
   # The wall times above come from runs in turn, which this VM's slow spells move by up to
   # 40%. The saving itself: the window run and the 3x box run side by side, each pinned to
@@ -271,13 +271,13 @@ if has fem; then
       --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
       --set continuum.nested=false --set output.fields=false --out "$WORK/fem_flat_$r" >/dev/null
   done
-  "$PY" "$ROOT/scripts/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- "$WORK"/fem_flat_{0,1,2,3}
+  "$PY" "$ROOT/studies/fem_pareto/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- "$WORK"/fem_flat_{0,1,2,3}
 fi
 
 if has error; then
   echo; echo "## Error against wall time"
   [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --out "$WORK/threads1" --quiet >/dev/null
   "$GL" run "$ROOT/cases/guillard2014/gradient.toml" --solver dem --out "$WORK/guillard" --quiet >/dev/null
-  "$PY" "$ROOT/scripts/error_vs_time.py" "$WORK/threads1" "$WORK/guillard"
+  "$PY" "$ROOT/studies/dem_error_vs_time/error_vs_time.py" "$WORK/threads1" "$WORK/guillard"
 fi
 echo "# load after: $(cut -d' ' -f1-3 /proc/loadavg)"
