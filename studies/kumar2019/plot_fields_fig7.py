@@ -45,6 +45,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..
 import numpy as np  # noqa: E402
 from grainlift import io  # noqa: E402
 from grainlift.plots import plt  # noqa: E402
+from grainlift.stats import pooled_mean  # noqa: E402
 from scipy import ndimage  # noqa: E402
 
 
@@ -68,10 +69,10 @@ def load(spec):
     nanmask = np.isnan(beds[0]["area_fraction"])
     r["area_fraction"] = np.where(nanmask, np.nan, w / len(beds))
     r["velocity_x"], r["velocity_y"], r["granular_temperature"] = vx, vy, tg
-    n = len(beds)
-    m = {k: np.mean([b["means"][k] for b in beds]) for k in ("drag", "lift")}
-    for k in ("drag_stderr", "lift_stderr"):
-        m[k] = np.sqrt(sum(b["means"].get(k, 0) ** 2 for b in beds)) / n
+    m = {}
+    for k in ("drag", "lift"):  # grainlift.stats.pooled_mean over the beds
+        p = pooled_mean([b["means"][k] for b in beds], [b["means"].get(k + "_stderr", 0) for b in beds])
+        m[k], m[k + "_stderr"] = p.mean, p.error
     r["means"] = m
     r["wall_seconds"] = sum(b["wall_seconds"] for b in beds)
     r["path"] = " + ".join(b["path"] for b in beds)

@@ -113,10 +113,10 @@ def main(argv):
                 line = (f"{xi:8.3f} {yi:8.4f} {ei:8.4f} {num(r,'drag'):10.4g} {num(r,'lift'):10.4g}"
                         f" {num(r,'wall_seconds'):8.1f} {num(r,'contacts'):7.3f}")
                 if "beds_ld" in r:
-                    b = np.array(r["beds_ld"])
-                    sd = b.std(ddof=1) if len(b) > 1 else float("nan")
+                    b = r["beds_ld"]
+                    sem = pooled_mean(b).between
                     line += ("  [" + " ".join(f"{v:+.3f}" for v in b)
-                             + f"; sd {sd:.3f}; sem {sd / math.sqrt(len(b)):.3f}]")
+                             + f"; sd {sem * math.sqrt(len(b)):.3f}; sem {sem:.3f}]")
                 print(line)
         elif mode == "drag-speed":
             x = np.array([first_number(r["value"]) for r in rows])
