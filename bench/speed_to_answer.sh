@@ -137,13 +137,14 @@ PYEOF
   fi
   ARGS_A=(--threads 1) ARGS_B=(--threads 2)
   timed_ab threads1 threads2
-  "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
-import json, sys, h5py
-w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
+  PYTHONPATH="$ROOT/python" "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
+import sys
+from grainlift import io
+w = [io.summary(d, "dem") for d in sys.argv[1:]]
 t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
 ratio = float(open(sys.argv[1] + ".threads2.ratio").read())
 same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
-team = h5py.File(sys.argv[2] + "/dem.h5")["diagnostics"].attrs
+team = io.read(sys.argv[2], "dem").diagnostics
 print(f"whole reduced run, 2,295 grains (medians): 1 thread {t[0]:.1f} s, --threads 2 "
       f"{t[1]:.1f} s (paired ratio {ratio:.2f}x; "
       f"target: never slower than one, >= 1.00x within timing noise); "
@@ -211,8 +212,9 @@ if has sleep; then
   "$GL" run "$TCASE" --solver dem --set dem.travel=0.1 --set dem.steady_travel=0 --out "$WORK/prep_full" --quiet >/dev/null
   timed_ab sleep_full_off sleep_full_on
   unset TCASE TSET
-  "$PY" - "$WORK" <<'PYEOF'
-import json, sys, h5py
+  PYTHONPATH="$ROOT/python" "$PY" - "$WORK" <<'PYEOF'
+import sys
+from grainlift import io
 work = sys.argv[1]
 print("| run | grains | no sleeping (s) | sleeping (s) | saving | grain-steps asleep | woken | same drag, lift bits |")
 print("| --- | --- | --- | --- | --- | --- | --- | --- |")
@@ -221,10 +223,10 @@ for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.
     off, on = (f"{work}/sleep_{tag}_{s}" for s in ("off", "on"))
     t = [float(open(d + ".wall").read()) for d in (off, on)]
     r = float(open(off + f".sleep_{tag}_on.ratio").read())
-    w = [json.load(open(d + "/summary.json"))["dem"] for d in (off, on)]
+    w = [io.summary(d, "dem") for d in (off, on)]
     same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
-    diag = h5py.File(on + "/dem.h5")["diagnostics"].attrs
-    grains = int(h5py.File(on + "/dem.h5")["diagnostics"].attrs.get("grains", 0))
+    diag = io.read(on, "dem").diagnostics
+    grains = int(diag.get("grains", 0))
     print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - 1 / r):.0f}% | "
           f"{100 * float(diag['sleeping_fraction']):.0f}% | {int(diag['sleep_wakes'])} | {same} |")
 PYEOF
