@@ -22,7 +22,7 @@ MU_S, MU_2, I_0 = 0.38, 0.64, 0.279
 
 
 def main():
-    if len(sys.argv) not in (2, 3):
+    if len(sys.argv) not in (2, 3) or sys.argv[1] in ("-h", "--help"):
         print(__doc__, file=sys.stderr)
         return 2
     i_low = float(sys.argv[2]) if len(sys.argv) == 3 else 0.0191

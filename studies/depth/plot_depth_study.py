@@ -470,7 +470,7 @@ def main():
             print("--window needs two numbers: the travel window in grain diameters", file=sys.stderr)
             return 2
         del args[k:k + 3]
-    if not args:
+    if not args or args[0] in ("-h", "--help"):
         print(__doc__)
         return 2
     out = args[0]

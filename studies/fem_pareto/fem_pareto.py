@@ -47,6 +47,9 @@ def slope(runs):
 
 
 def main(argv):
+    if not argv or argv[0] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        sys.exit(0 if argv else 2)
     if "--" in argv:
         k = argv.index("--")
         groups = [argv[:k], argv[k + 1:]]

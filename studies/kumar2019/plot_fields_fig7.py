@@ -205,6 +205,9 @@ def snapshots(path):
 
 
 def main(argv):
+    if len(argv) < 3 or argv[1] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        return 0 if argv[1:2] in (["-h"], ["--help"]) else 2
     warnings.filterwarnings("ignore", category=RuntimeWarning)  # empty bins of the T_g profile
     mirror = "--mirror" in argv
     argv = [a for a in argv if a != "--mirror"]
@@ -310,4 +313,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    main(sys.argv)
+    sys.exit(main(sys.argv))

@@ -161,6 +161,9 @@ def omega_table(root):
 
 
 def main():
+    if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        return 0 if sys.argv[1:2] in (["-h"], ["--help"]) else 2
     grainlift, root = sys.argv[1], sys.argv[2]
     wake_windows(root)
     omega_table(root)
@@ -202,4 +205,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
