@@ -73,7 +73,8 @@ def pool_series(runs, base, extras, pooled_name):
         return runs
     for (s, name), r in list(runs.items()):
         if s == base:
-            runs[(pooled_name, name)] = pool([r] + [runs[(e, name)] for e in extras if (e, name) in runs])
+            others = [runs[(e, name)] for e in extras if (e, name) in runs]
+            runs[(pooled_name, name)] = pool([r] + others)
     return runs
 
 

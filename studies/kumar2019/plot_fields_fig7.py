@@ -71,7 +71,8 @@ def load(spec):
     r["velocity_x"], r["velocity_y"], r["granular_temperature"] = vx, vy, tg
     m = {}
     for k in ("drag", "lift"):  # grainlift.stats.pooled_mean over the beds
-        p = pooled_mean([b["means"][k] for b in beds], [b["means"].get(k + "_stderr", 0) for b in beds])
+        p = pooled_mean([b["means"][k] for b in beds],
+                        [b["means"].get(k + "_stderr", 0) for b in beds])
         m[k], m[k + "_stderr"] = p.mean, p.error
     r["means"] = m
     r["wall_seconds"] = sum(b["wall_seconds"] for b in beds)

@@ -52,7 +52,8 @@ def pooled(specs):
             same = [s for t in tables for s in t if s["value"] == r["value"]]
             p = dict(r)
             for key in ("drag", "lift", "torque"):
-                pm = pooled_mean([num(s, key) for s in same], [num(s, key + "_stderr") for s in same])
+                pm = pooled_mean([num(s, key) for s in same],
+                                 [num(s, key + "_stderr") for s in same])
                 p[key], p[key + "_stderr"] = str(pm.mean), str(pm.error)
             for key in ("contacts", "wall_seconds"):
                 p[key] = str(np.mean([num(s, key) for s in same]))
