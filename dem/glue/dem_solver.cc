@@ -27,6 +27,7 @@
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/interrupt.h"
 #include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/statistics.h"
 #include "grainlift/shared/replica_pool.h"
 #include "grainlift/shared/rheology_cache.h"
 #include "grainlift/shared/surface_stress.h"

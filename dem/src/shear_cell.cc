@@ -15,6 +15,7 @@
 #include "grainlift/dem/lid.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/system_setup.h"
+#include "grainlift/shared/statistics.h"
 
 namespace grainlift::dem {
 
@@ -66,14 +67,29 @@ void validate(const ShearCellConfig& c, const DemConfig& dc) {
   }
 }
 
-/// Mean and error of the ratio num / den per block (both series over the same range).
+/// x[begin, end) as a series of its own.
+std::vector<double> window_of(const std::vector<double>& x, std::size_t begin, std::size_t end) {
+  return std::vector<double>(x.begin() + std::ptrdiff_t(begin), x.begin() + std::ptrdiff_t(end));
+}
+
+/// The block mean of x[begin, end) with its correlation-corrected error (statistics.h).
+MeanError block_stat(const std::vector<double>& x, std::size_t begin, std::size_t end,
+                     int blocks) {
+  const BlockMean m = block_mean(window_of(x, begin, end), std::size_t(blocks));
+  return {m.mean, m.stderr_corrected};
+}
+
+/// Mean and error of the ratio num / den per block (both series over the same range, so the
+/// same blocks), by the block rule of statistics.h applied to the B ratios.
 MeanError block_ratio(const std::vector<double>& num, const std::vector<double>& den,
                       std::size_t begin, std::size_t end, int blocks) {
-  const std::vector<double> a = block_means(num, begin, end, blocks);
-  const std::vector<double> b = block_means(den, begin, end, blocks);
+  const std::vector<double> a = block_means(window_of(num, begin, end), std::size_t(blocks));
+  const std::vector<double> b = block_means(window_of(den, begin, end), std::size_t(blocks));
   std::vector<double> r(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) r[k] = a[k] / b[k];
-  return mean_and_error(r);
+  const std::size_t used = a.empty() ? 0 : (end - begin) / a.size() * a.size();
+  const BlockMean m = block_mean_of(r, used);
+  return {m.mean, m.stderr_corrected};
 }
 
 /// Whether the two halves of x[begin, end) in blocks agree within sigma combined errors.
@@ -81,8 +97,7 @@ bool halves_agree(const std::vector<double>& x, std::size_t begin, std::size_t e
                   double sigma, const std::vector<double>* den = nullptr) {
   const std::size_t mid = begin + (end - begin) / 2;
   const auto half = [&](std::size_t lo, std::size_t hi) {
-    return den ? block_ratio(x, *den, lo, hi, blocks / 2)
-               : mean_and_error(block_means(x, lo, hi, blocks / 2));
+    return den ? block_ratio(x, *den, lo, hi, blocks / 2) : block_stat(x, lo, hi, blocks / 2);
   };
   const MeanError a = half(begin, mid), b = half(mid, end);
   return std::abs(a.mean - b.mean) <= sigma * std::hypot(a.se, b.se);
@@ -272,9 +287,7 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
   }
 
   const std::size_t b = r.window_begin, e = r.samples.size();
-  const auto stat = [&](const std::vector<double>& x) {
-    return mean_and_error(block_means(x, b, e, c.blocks));
-  };
+  const auto stat = [&](const std::vector<double>& x) { return block_stat(x, b, e, c.blocks); };
   r.pressure = stat(p);
   r.shear_stress = stat(tau);
   r.bottom_shear_stress = stat(tau_bottom);

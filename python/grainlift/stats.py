@@ -28,8 +28,57 @@ stderr_corrected: stderr sqrt((1 + r) / (1 - r)), r = lag1 clipped to [0, 0.9];
 blocks: B used; samples: B times the block length (the samples used)."""
 
 
+def block_means(series, blocks):
+    """The means of B equal contiguous blocks of series, B = min(blocks, len(series)) (at least
+    1); the first len(series) % B samples are dropped so that the blocks end at the last sample
+    (the end of a run is the part nearest to steady state). Empty for an empty series."""
+    x = [float(v) for v in series]
+    n = len(x)
+    if n == 0:
+        return []
+    b_count = max(1, min(int(blocks), n))
+    length = n // b_count
+    start = n - length * b_count
+    means = []
+    for b in range(b_count):
+        s = 0.0
+        lo = start + b * length
+        for i in range(lo, lo + length):
+            s += x[i]
+        means.append(s / length)
+    return means
+
+
+def block_mean_of(means, samples):
+    """Mean and errors from B block means taken as one sample each (block_mean()'s rule);
+    samples, the number of samples they hold, is only reported."""
+    means = [float(m) for m in means]
+    b_count = len(means)
+    if b_count == 0:
+        return BlockMean(NAN, NAN, 0.0, NAN, 0, samples)
+    mean = 0.0
+    for m in means:
+        mean += m
+    mean /= b_count
+    var = 0.0
+    for m in means:
+        var += (m - mean) * (m - mean)
+    stderr = math.sqrt(var / (b_count - 1) / b_count) if b_count >= 2 else NAN
+    lag1 = 0.0
+    if b_count >= 3 and var > 0:
+        c1 = 0.0
+        for b in range(b_count - 1):
+            c1 += (means[b] - mean) * (means[b + 1] - mean)
+        lag1 = c1 / var
+    # AR(1): Var(mean of B) = Var(m_b) / B (1 + r) / (1 - r) for B much larger than 1 / (1 - r)
+    rho = min(MAX_LAG1, max(0.0, lag1))
+    corrected = stderr * math.sqrt((1 + rho) / (1 - rho))
+    return BlockMean(mean, stderr, lag1, corrected, b_count, samples)
+
+
 def block_mean(series, blocks):
-    """Mean and standard error of a correlated time series from B equal contiguous blocks.
+    """Mean and standard error of a correlated time series from B equal contiguous blocks:
+    block_mean_of(block_means(series, blocks)).
 
     The first len(series) % B samples are dropped, so that the blocks end at the last sample:
     the series is cut after its steady-state start, and the end of a run is the part nearest
@@ -45,37 +94,9 @@ def block_mean(series, blocks):
     when the series has fewer samples; B < 1 counts as 1).
     Returns a BlockMean; an empty series gives NaN mean and errors and 0 blocks.
     """
-    x = [float(v) for v in series]
-    n = len(x)
-    if n == 0:
-        return BlockMean(NAN, NAN, 0.0, NAN, 0, 0)
-    b_count = max(1, min(int(blocks), n))
-    length = n // b_count
-    start = n - length * b_count
-    means = []
-    for b in range(b_count):
-        s = 0.0
-        lo = start + b * length
-        for i in range(lo, lo + length):
-            s += x[i]
-        means.append(s / length)
-    mean = 0.0
-    for m in means:
-        mean += m
-    mean /= b_count
-    var = 0.0
-    for m in means:
-        var += (m - mean) * (m - mean)
-    stderr = math.sqrt(var / (b_count - 1) / b_count) if b_count >= 2 else NAN
-    lag1 = 0.0
-    if b_count >= 3 and var > 0:
-        c1 = 0.0
-        for b in range(b_count - 1):
-            c1 += (means[b] - mean) * (means[b + 1] - mean)
-        lag1 = c1 / var
-    rho = min(MAX_LAG1, max(0.0, lag1))
-    corrected = stderr * math.sqrt((1 + rho) / (1 - rho))
-    return BlockMean(mean, stderr, lag1, corrected, b_count, length * b_count)
+    means = block_means(series, blocks)
+    length = len(series) // len(means) if means else 0
+    return block_mean_of(means, length * len(means))
 
 
 Pooled = namedtuple("Pooled", "mean error between within beds")
@@ -110,10 +131,12 @@ def pooled_mean(means, errors=None):
     the error is the bed's own error (a lower bound; NaN when no errors are given).
 
     @param means the N bed means; @param errors their standard errors (same length), or None
-    when the beds carry none (then error = between).
+    (or empty) when the beds carry none (then error = between).
     """
     v = [float(m) for m in means]
     n = len(v)
+    if errors is not None and len(errors) == 0:
+        errors = None  # as the C++ pooled_mean's empty vector
     if errors is not None and len(errors) != n:
         raise ValueError("pooled_mean: %d means but %d errors" % (n, len(errors)))
     if n == 0:

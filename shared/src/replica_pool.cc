@@ -1,6 +1,6 @@
 #include "grainlift/shared/replica_pool.h"
 
-#include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/statistics.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -8,29 +8,37 @@
 namespace grainlift {
 namespace {
 
-/// Element-wise mean over the replicas of one array; cells that are not finite in a replica
-/// are left out of that cell's mean (NaN where no replica has a value). With @p se, the
-/// element-wise SD / sqrt(N) of the finite values (NaN with fewer than two).
+/// Element-wise pooled mean (statistics.h's pooled_mean) over the replicas of one array; cells
+/// that are not finite in a replica are left out of that cell's pool (NaN where no replica has
+/// a value). With @p se, the pooled error of each cell (NaN with fewer than two values), its
+/// within-bed part from @p errors (the replicas' own errors of the same cells) when given.
 std::vector<double> mean_of(const std::vector<const std::vector<double>*>& arrays,
-                            std::vector<double>* se = nullptr) {
+                            std::vector<double>* se = nullptr,
+                            const std::vector<const std::vector<double>*>& errors = {}) {
   const std::size_t m = arrays.front()->size();
   for (const auto* a : arrays) {
     if (a->size() != m) throw std::invalid_argument("pool_replicas: replicas of different grids");
   }
-  std::vector<double> out(m), values;
+  for (const auto* e : errors) {
+    if (e->size() != m) throw std::invalid_argument("pool_replicas: errors of different grids");
+  }
+  std::vector<double> out(m), values, errs;
   if (se) se->assign(m, std::nan(""));
   for (std::size_t i = 0; i < m; ++i) {
     values.clear();
-    for (const auto* a : arrays)
-      if (std::isfinite((*a)[i])) values.push_back((*a)[i]);
+    errs.clear();
+    for (std::size_t k = 0; k < arrays.size(); ++k) {
+      if (!std::isfinite((*arrays[k])[i])) continue;
+      values.push_back((*arrays[k])[i]);
+      if (!errors.empty()) errs.push_back((*errors[k])[i]);
+    }
     if (values.empty()) {
       out[i] = std::nan("");
       continue;
     }
-    // blocks of one value each: the mean and SD / sqrt(N)
-    const BlockMean s = block_mean(values, values.size());
-    out[i] = s.mean;
-    if (se && values.size() >= 2) (*se)[i] = s.stderr_;
+    const PooledMean p = pooled_mean(values, errs);
+    out[i] = p.mean;
+    if (se && values.size() >= 2) (*se)[i] = p.error;
   }
   return out;
 }
@@ -61,25 +69,39 @@ RunResult pool_replicas(const std::vector<RunResult>& rs) {
     all_fields = all_fields && r.fields.has_value();
   }
   if (all_means) {
-    std::vector<double> drag, lift, torque, contacts;
+    std::vector<double> drag, lift, torque, contacts, drag_se, lift_se, torque_se;
+    bool all_errors = true;
     std::int64_t samples = 0;
     for (const auto& r : rs) {
       drag.push_back(r.means->drag);
       lift.push_back(r.means->lift);
       torque.push_back(r.means->torque);
       if (r.means->contacts) contacts.push_back(*r.means->contacts);
+      all_errors = all_errors && r.means->drag_stderr && r.means->lift_stderr &&
+                   r.means->torque_stderr;
+      if (all_errors) {
+        drag_se.push_back(*r.means->drag_stderr);
+        lift_se.push_back(*r.means->lift_stderr);
+        torque_se.push_back(*r.means->torque_stderr);
+      }
       samples += r.means->samples;
+    }
+    if (!all_errors) {  // pooled from the spread alone
+      drag_se.clear();
+      lift_se.clear();
+      torque_se.clear();
     }
     if (n >= 2) {
       MeanForces& m = *p.means;
-      const BlockMean d = block_mean(drag, n), l = block_mean(lift, n), t = block_mean(torque, n);
+      const PooledMean d = pooled_mean(drag, drag_se), l = pooled_mean(lift, lift_se),
+                       t = pooled_mean(torque, torque_se);
       m.drag = d.mean;
       m.lift = l.mean;
       m.torque = t.mean;
-      m.drag_stderr = d.stderr_;
-      m.lift_stderr = l.stderr_;
-      m.torque_stderr = t.stderr_;
-      if (contacts.size() == n) m.contacts = block_mean(contacts, n).mean;
+      m.drag_stderr = d.error;
+      m.lift_stderr = l.error;
+      m.torque_stderr = t.error;
+      if (contacts.size() == n) m.contacts = pooled_mean(contacts).mean;
       m.samples = samples;
       m.blocks = std::int64_t(n);
     }
@@ -90,14 +112,24 @@ RunResult pool_replicas(const std::vector<RunResult>& rs) {
   p.diagnostics.counts["replicas"] = static_cast<long long>(n);
   if (n < 2) return p;
   if (all_surface) {
-    std::vector<const std::vector<double>*> sn, st;
+    std::vector<const std::vector<double>*> sn, st, en, et;
+    bool all_errors = true;
     for (const auto& r : rs) {
       sn.push_back(&r.surface->sigma_n);
       st.push_back(&r.surface->sigma_t);
+      all_errors = all_errors && r.surface->sigma_n_stderr && r.surface->sigma_t_stderr;
+      if (all_errors) {
+        en.push_back(&*r.surface->sigma_n_stderr);
+        et.push_back(&*r.surface->sigma_t_stderr);
+      }
+    }
+    if (!all_errors) {
+      en.clear();
+      et.clear();
     }
     std::vector<double> se_n, se_t;
-    p.surface->sigma_n = mean_of(sn, &se_n);
-    p.surface->sigma_t = mean_of(st, &se_t);
+    p.surface->sigma_n = mean_of(sn, &se_n, en);
+    p.surface->sigma_t = mean_of(st, &se_t, et);
     p.surface->sigma_n_stderr = std::move(se_n);
     p.surface->sigma_t_stderr = std::move(se_t);
   } else {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "grainlift/dem/shear_cell.h"
+#include "grainlift/shared/statistics.h"
 
 namespace gd = grainlift::dem;
 
@@ -78,7 +79,7 @@ TEST(ShearCell, BulkVelocityProfileIsLinear) {
 // and every lid pressure is P within 2% (60,000 steps of run-in let the lid close the gap of a
 // bed prepared at Phi 0.8 between fixed walls).
 TEST(ShearCell, NoShearNoMeanShearStress) {
-  std::vector<double> tau;
+  std::vector<double> tau, tau_se;
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
     gd::ShearCellConfig c = cell(0.1, 0.5, 0, 0);
     c.grains.seed = seed;
@@ -88,10 +89,11 @@ TEST(ShearCell, NoShearNoMeanShearStress) {
     c.max_run_in_steps = c.run_in_steps;
     const gd::ShearCellResult r = gd::run_shear_cell(c);
     tau.push_back(r.shear_stress.mean);
+    tau_se.push_back(r.shear_stress.se);
     EXPECT_NEAR(r.pressure.mean, kPressure, 0.02 * kPressure) << "seed " << seed;
   }
-  const gd::MeanError m = gd::mean_and_error(tau);
-  EXPECT_NEAR(m.mean, 0.0, 3 * m.se) << m.mean << " +- " << m.se << " N/m over 6 beds";
+  const grainlift::PooledMean m = grainlift::pooled_mean(tau, tau_se);
+  EXPECT_NEAR(m.mean, 0.0, 3 * m.error) << m.mean << " +- " << m.error << " N/m over 6 beds";
 }
 
 // Physics: the quasi-static friction coefficient of a granular packing comes mostly from the

@@ -10,13 +10,13 @@
 
 #include <unistd.h>
 
-#include "grainlift/dem/block_average.h"
 #include "grainlift/dem/checkpoint.h"
 #include "grainlift/dem/contact_law.h"
 #include "grainlift/dem/dem_system.h"
 #include "grainlift/dem/packing.h"
 #include "grainlift/dem/simulation.h"
 #include "grainlift/dem/vector_kernels.h"
+#include "grainlift/shared/statistics.h"
 #include "dem_beds.h"
 
 namespace gd = grainlift::dem;
@@ -298,16 +298,16 @@ TEST(Simulation, SleepingSlowGrainsKeepsTheForcesWithinTheirErrors) {
       for (std::size_t k = o.steady_start_index; k < o.samples.size(); ++k) {
         v.push_back(axis == 0 ? o.samples[k].fx : o.samples[k].fy);
       }
-      return gd::mean_and_error(gd::block_means(v, 0, v.size(), 10));
+      return grainlift::block_mean(v, 10);
     };
     const auto a = stats(asleep), b = stats(awake);
-    const double combined = std::hypot(a.se, b.se);
+    const double ea = a.stderr_corrected, eb = b.stderr_corrected, combined = std::hypot(ea, eb);
     EXPECT_LE(std::abs(a.mean - b.mean), 3.0 * combined)
-        << (axis == 0 ? "drag" : "lift") << ": " << a.mean << " +- " << a.se << " asleep against "
-        << b.mean << " +- " << b.se;
+        << (axis == 0 ? "drag" : "lift") << ": " << a.mean << " +- " << ea << " asleep against "
+        << b.mean << " +- " << eb;
     EXPECT_GT(combined, 0.0);
     std::printf("%s: %.4g +- %.2g N/m asleep (%.1f%% of grain-steps), %.4g +- %.2g N/m awake\n",
-                axis == 0 ? "fx" : "fy", a.mean, a.se, 100 * asleep.sleeping_fraction, b.mean, b.se);
+                axis == 0 ? "fx" : "fy", a.mean, ea, 100 * asleep.sleeping_fraction, b.mean, eb);
   }
   std::filesystem::remove_all(c.packing_cache_dir);
 }

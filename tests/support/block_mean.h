@@ -1,6 +1,7 @@
 // Mean of a per-sample quantity of a DEM run after its steady-state start, with the standard
 // error from contiguous blocks (the samples are correlated; block means of several diameters of
-// travel each are close to independent). Shared by the DEM regression and asymptotic tests.
+// travel each are close to independent). Shared by the DEM regression and asymptotic tests; a
+// thin adapter: the rule is statistics.h's block_mean.
 #pragma once
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "grainlift/dem/dem_output.h"
+#include "grainlift/shared/statistics.h"
 
 namespace grainlift::test_support {
 
@@ -15,24 +17,16 @@ struct MeanAndError {
   double mean = 0, stderr_ = 0;
 };
 
+/// The block mean of value(sample) over the samples from the steady-state start, in @p blocks
+/// blocks, with its correlation-corrected error.
 template <class F>
 MeanAndError block_mean(const dem::DemOutput& out, F value, int blocks = 10) {
-  const std::size_t first = out.steady_start_index;
-  const std::size_t per = (out.samples.size() - first) / std::size_t(blocks);
-  std::vector<double> means(std::size_t(blocks), 0.0);
-  double total = 0;
-  for (int b = 0; b < blocks; ++b) {
-    double s = 0;
-    for (std::size_t k = 0; k < per; ++k) s += value(out.samples[first + std::size_t(b) * per + k]);
-    means[std::size_t(b)] = s / double(per);
-    total += means[std::size_t(b)];
+  std::vector<double> series;
+  for (std::size_t k = out.steady_start_index; k < out.samples.size(); ++k) {
+    series.push_back(value(out.samples[k]));
   }
-  MeanAndError r;
-  r.mean = total / blocks;
-  double var = 0;
-  for (double m : means) var += (m - r.mean) * (m - r.mean);
-  r.stderr_ = std::sqrt(var / (blocks - 1) / blocks);
-  return r;
+  const BlockMean m = grainlift::block_mean(series, std::size_t(blocks));
+  return {m.mean, m.stderr_corrected};
 }
 
 /// L / D and its standard error, the two errors propagated as independent.

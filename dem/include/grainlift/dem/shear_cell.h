@@ -9,10 +9,17 @@
 #include <cstddef>
 #include <vector>
 
-#include "grainlift/dem/block_average.h"
 #include "grainlift/dem/dem_config.h"
 
 namespace grainlift::dem {
+
+/// A window mean and its standard error (same units as the series): the block mean of
+/// shared/include/grainlift/shared/statistics.h (the first samples left over dropped) with its
+/// correlation-corrected error (stderr_corrected).
+struct MeanError {
+  double mean = 0;
+  double se = 0;  ///< standard error of the mean
+};
 
 struct ShearCellConfig {
   /// The grains and the run control: grain_diameter, polydispersity, density (rho_s, kg/m^2),
