@@ -19,8 +19,8 @@
 #   sleep     the saving of sleeping grains (dem.sleep, speed 0: the same bits) on the reduced
 #             dense and dilute runs and on the first 6 d of the full-size Kumar box
 #   fem       the FEM's error against time on the demo geometry, refinement 0-4 with nested
-#             iteration, 0-3 without (scripts/fem_pareto.py)
-#   error     relative error of drag and lift against wall time (scripts/error_vs_time.py) for
+#             iteration, 0-3 without (studies/fem_pareto/fem_pareto.py)
+#   error     relative error of drag and lift against wall time (studies/dem_error_vs_time/error_vs_time.py) for
 #             the reduced Kumar run and cases/guillard2014/gradient.toml
 #
 # Environment: REPS (repetitions of every timed run, default 3; the two runs of a ratio
@@ -133,13 +133,14 @@ PYEOF
   fi
   ARGS_A=(--threads 1) ARGS_B=(--threads 2)
   timed_ab threads1 threads2
-  "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
-import json, sys, h5py
-w = [json.load(open(d + "/summary.json"))["dem"] for d in sys.argv[1:]]
+  PYTHONPATH="$ROOT/python" "$PY" - "$WORK/threads1" "$WORK/threads2" <<'PYEOF'
+import sys
+from grainlift import io
+w = [io.summary(d, "dem") for d in sys.argv[1:]]
 t = [float(open(d + ".wall").read()) for d in sys.argv[1:]]
 ratio = float(open(sys.argv[1] + ".threads2.ratio").read())
 same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
-team = h5py.File(sys.argv[2] + "/dem.h5")["diagnostics"].attrs
+team = io.read(sys.argv[2], "dem").diagnostics
 print(f"whole reduced run, 2,295 grains (medians): 1 thread {t[0]:.1f} s, --threads 2 "
       f"{t[1]:.1f} s (paired ratio {ratio:.2f}x; "
       f"target: never slower than one, >= 1.00x within timing noise); "
@@ -207,8 +208,9 @@ if has sleep; then
   "$GL" run "$TCASE" --solver dem --set dem.travel=0.1 --set dem.steady_travel=0 --out "$WORK/prep_full" --quiet >/dev/null
   timed_ab sleep_full_off sleep_full_on
   unset TCASE TSET
-  "$PY" - "$WORK" <<'PYEOF'
-import json, sys, h5py
+  PYTHONPATH="$ROOT/python" "$PY" - "$WORK" <<'PYEOF'
+import sys
+from grainlift import io
 work = sys.argv[1]
 print("| run | grains | no sleeping (s) | sleeping (s) | saving | grain-steps asleep | woken | same drag, lift bits |")
 print("| --- | --- | --- | --- | --- | --- | --- | --- |")
@@ -217,10 +219,10 @@ for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.
     off, on = (f"{work}/sleep_{tag}_{s}" for s in ("off", "on"))
     t = [float(open(d + ".wall").read()) for d in (off, on)]
     r = float(open(off + f".sleep_{tag}_on.ratio").read())
-    w = [json.load(open(d + "/summary.json"))["dem"] for d in (off, on)]
+    w = [io.summary(d, "dem") for d in (off, on)]
     same = w[0]["drag"] == w[1]["drag"] and w[0]["lift"] == w[1]["lift"]
-    diag = h5py.File(on + "/dem.h5")["diagnostics"].attrs
-    grains = int(h5py.File(on + "/dem.h5")["diagnostics"].attrs.get("grains", 0))
+    diag = io.read(on, "dem").diagnostics
+    grains = int(diag.get("grains", 0))
     print(f"| {what} | {grains} | {t[0]:.2f} | {t[1]:.2f} | {100 * (1 - 1 / r):.0f}% | "
           f"{100 * float(diag['sleeping_fraction']):.0f}% | {int(diag['sleep_wakes'])} | {same} |")
 PYEOF
@@ -238,13 +240,13 @@ if has fem; then
       --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
       --set continuum.nested=false --set output.fields=false --out "$WORK/fem_flat_$r" >/dev/null
   done
-  "$PY" "$ROOT/scripts/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- "$WORK"/fem_flat_{0,1,2,3}
+  "$PY" "$ROOT/studies/fem_pareto/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- "$WORK"/fem_flat_{0,1,2,3}
 fi
 
 if has error; then
   echo; echo "## Error against wall time"
   [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --out "$WORK/threads1" --quiet >/dev/null
   "$GL" run "$ROOT/cases/guillard2014/gradient.toml" --solver dem --out "$WORK/guillard" --quiet >/dev/null
-  "$PY" "$ROOT/scripts/error_vs_time.py" "$WORK/threads1" "$WORK/guillard"
+  "$PY" "$ROOT/studies/dem_error_vs_time/error_vs_time.py" "$WORK/threads1" "$WORK/guillard"
 fi
 echo "# load after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -9,40 +9,18 @@ Datasets a solver did not produce are absent from the file and from the plots.""
 import os
 import sys
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path[:0] = [os.path.dirname(os.path.realpath(__file__)),  # installed: grainlift/ beside
+                os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python")]
 import numpy as np  # noqa: E402
-
-
-def drag_lift(f):
-    g = f["geometry"].attrs
-    v = np.array([g["velocity_x"], g["velocity_y"]])
-    e = v / np.linalg.norm(v)
-    fx, fy = f["forces/fx"][:], f["forces/fy"][:]
-    return -(fx * e[0] + fy * e[1]), fx * (-e[1]) + fy * e[0]
-
-
-def theta_degrees(theta):
-    """Angles of /surface/theta (rad, 0..2 pi) in degrees from V in (-180, 180], and the order
-    that sorts them."""
-    deg = np.degrees(np.where(theta > np.pi, theta - 2 * np.pi, theta))
-    return deg, np.argsort(deg)
-
-
-def field_extent(x, y, D):
-    """imshow extent in units of D of the cell-centred field grid x (nx), y (ny) (m)."""
-    return [(x[0] - (x[1] - x[0]) / 2) / D, (x[-1] + (x[1] - x[0]) / 2) / D,
-            (y[0] - (y[1] - y[0]) / 2) / D, (y[-1] + (y[1] - y[0]) / 2) / D]
+from grainlift import io  # noqa: E402
+from grainlift.plots import field_extent, plt, theta_degrees  # noqa: E402
 
 
 def plot_forces(f, solver, out):
     if "forces" not in f or len(f["forces/time"]) < 2:
         return None
     t = f["forces/time"][:]
-    d, l = drag_lift(f)
+    d, l = f.drag_lift()
     fig, ax = plt.subplots(figsize=(8, 4))
     ax.plot(t, d, lw=0.6, label="drag D")
     ax.plot(t, l, lw=0.6, label="lift L")
@@ -158,11 +136,11 @@ def main(argv):
             if not os.path.exists(path):
                 continue
             found = True
-            with h5py.File(path, "r") as f:
-                for fn in (plot_forces, plot_surface, plot_fields):
-                    p = fn(f, solver, out)
-                    if p:
-                        print("wrote", p)
+            f = io.read(path)
+            for fn in (plot_forces, plot_surface, plot_fields):
+                p = fn(f, solver, out)
+                if p:
+                    print("wrote", p)
         if not found:
             print(f"{out}: no dem.h5 or fem.h5 here", file=sys.stderr)
             status = 2

@@ -5,25 +5,20 @@ frictional disks (mu ~ 0.26 + 1.1 I, Phi ~ 0.81 - 0.3 I) for reference.
 
     plot_rheology.py RHEOLOGY.toml [OUT.png]     (default: beside the file, .png)
 """
+import os
 import sys
-import tomllib
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path[:0] = [os.path.dirname(os.path.realpath(__file__)),  # installed: grainlift/ beside
+                os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python")]
 import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.plots import plt, save  # noqa: E402
 
 
 def main(path, out):
-    with open(path, "rb") as f:
-        law = tomllib.load(f)
-    pts = law.get("point", [])
-    I = np.array([p["I"] for p in pts])
-    mu = np.array([p["mu"] for p in pts])
-    mu_se = np.array([p["mu_stderr"] for p in pts])
-    phi = np.array([p["phi"] for p in pts])
-    phi_se = np.array([p["phi_stderr"] for p in pts])
+    law = io.calibration(path)
+    p = io.calibration_points(law)
+    I, mu, mu_se, phi, phi_se = (p[k] for k in ("I", "mu", "mu_stderr", "phi", "phi_stderr"))
     m, ph = law["mu_i"], law["phi_i"]
     grid = np.logspace(np.log10(min(I.min(), 1e-3)), np.log10(max(I.max(), 0.5)), 200)
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
@@ -46,11 +41,12 @@ def main(path, out):
     src = law.get("source", {})
     fig.suptitle(f"{src.get('grains', '')}, P {src.get('pressure', '')}", fontsize=9)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    save(fig, out)
     print(f"wrote {out}")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
-        sys.exit(__doc__)
+    if len(sys.argv) < 2 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        sys.exit(0 if len(sys.argv) > 1 else 2)
     main(sys.argv[1], sys.argv[2] if len(sys.argv) > 2 else sys.argv[1].rsplit(".", 1)[0] + ".png")

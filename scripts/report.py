@@ -11,64 +11,55 @@ and a table of drag, lift, torque, L/D, L/B, the DEM's standard errors and far f
 convergence and mesh, and summary.json's "compare" numbers. A solver that did not run is a
 column that says "not run". Exit 2 when DIR holds neither file."""
 import html
-import json
 import math
 import os
 import sys
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path[:0] = [os.path.dirname(os.path.realpath(__file__)),  # installed: grainlift/ beside
+                os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python")]
 import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.plots import field_extent, plt, save_in, theta_degrees  # noqa: E402
 
-from plot_results import field_extent, theta_degrees  # noqa: E402
-
-SOLVERS = ("dem", "fem")
+SOLVERS = io.SOLVERS
 COLOURS = {"dem": "C0", "fem": "C3"}
 NOT_RUN = "not run"
-
-
-def text(v):
-    """An HDF5 string attribute as str."""
-    return v.decode() if isinstance(v, bytes) else str(v)
+text = io.text
 
 
 def read_solver(path):
     """The parts of one result file the report uses, as plain numpy / Python values."""
+    f = io.read(path)
     r = {}
-    with h5py.File(path, "r") as f:
-        geo = dict(f["geometry"].attrs)
-        r["P0"] = float(geo.get("pressure_scale", 0.0))
-        r["D"] = float(geo["intruder_diameter"])
-        r["means"] = dict(f["means"].attrs) if "means" in f else {}
-        r["derived"] = dict(f["derived"].attrs) if "derived" in f else {}
-        r["diag"] = {k: (text(v) if isinstance(v, (bytes, str)) else v)
-                     for k, v in f["diagnostics"].attrs.items()} if "diagnostics" in f else {}
-        r["meta"] = {k: text(v) for k, v in f["metadata"].attrs.items()} if "metadata" in f else {}
-        r["far_field"] = dict(f["far_field"].attrs) if "far_field" in f else None
-        if "surface" in f:
-            s = f["surface"]
-            r["theta"] = s["theta"][:]
+    geo = f.geometry
+    r["P0"] = float(geo.get("pressure_scale", 0.0))
+    r["D"] = float(geo["intruder_diameter"])
+    r["means"] = f.means
+    r["derived"] = f.derived
+    r["diag"] = f.diagnostics
+    r["meta"] = {k: text(v) for k, v in f.metadata.items()}
+    r["far_field"] = f.attrs("far_field") if f.has("far_field") else None
+    if f.has("surface"):
+        s = f.datasets("surface")
+        r["theta"] = s["theta"]
+        for k in ("sigma_n", "sigma_t"):
+            r[k] = s[k]
+            # per-angle standard error: not in schema_version 2; drawn when a file has it
+            if k + "_stderr" in s:
+                r[k + "_stderr"] = s[k + "_stderr"]
+        if "derived/sigma_n_symmetric" in f:
             for k in ("sigma_n", "sigma_t"):
-                r[k] = s[k][:]
-                # per-angle standard error: not in schema_version 2; drawn when a file has it
-                if k + "_stderr" in s:
-                    r[k + "_stderr"] = s[k + "_stderr"][:]
-            if "derived" in f and "sigma_n_symmetric" in f["derived"]:
-                for k in ("sigma_n", "sigma_t"):
-                    for part in ("symmetric", "antisymmetric"):
-                        r[f"{k}_{part}"] = f[f"derived/{k}_{part}"][:]
-        if "fields" in f:
-            g = f["fields"]
-            fields = {"x": g["x"][:], "y": g["y"][:]}
-            if "velocity_x" in g and "velocity_y" in g:
-                fields["speed"] = np.hypot(g["velocity_x"][:], g["velocity_y"][:])
-            for n in ("pressure", "area_fraction"):
-                if n in g:
-                    fields[n] = g[n][:]
-            r["fields"] = fields
+                for part in ("symmetric", "antisymmetric"):
+                    r[f"{k}_{part}"] = f[f"derived/{k}_{part}"]
+    if f.has("fields"):
+        g = f.datasets("fields")
+        fields = {"x": g["x"], "y": g["y"]}
+        if "velocity_x" in g and "velocity_y" in g:
+            fields["speed"] = np.hypot(g["velocity_x"], g["velocity_y"])
+        for n in ("pressure", "area_fraction"):
+            if n in g:
+                fields[n] = g[n]
+        r["fields"] = fields
     return r
 
 
@@ -79,10 +70,7 @@ def pressure_source(solver, r):
 
 def save(fig, out, name, dpi=100):
     """Writes @p fig as DIR/name, closes it; the path."""
-    path = os.path.join(out, name)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return path
+    return save_in(fig, out, name, dpi)
 
 
 def plot_surface(runs, out):
@@ -380,8 +368,7 @@ def main(argv):
     summary = {}
     sp = os.path.join(out, "summary.json")
     if os.path.exists(sp):
-        with open(sp, encoding="utf-8") as f:
-            summary = json.load(f)
+        summary = io.summary(out)
     images = {"surface": plot_surface(runs, out), "split": plot_split(runs, out)}
     images["fields"], images["field_names"] = plot_fields(runs, out)
     print(write_html(out, runs, summary, images))

@@ -5,6 +5,10 @@ The table sits between the markers <!-- keys:begin --> and <!-- keys:end -->."""
 import subprocess
 import sys
 
+if len(sys.argv) != 3:
+    print(__doc__ + "\nusage: update_case_docs.py GRAINLIFT_BINARY docs/case-format.md",
+          file=sys.stderr)
+    sys.exit(0 if sys.argv[1:2] in (["-h"], ["--help"]) else 2)
 binary, doc = sys.argv[1], sys.argv[2]
 table = subprocess.run([binary, "keys", "--markdown"], check=True, capture_output=True,
                        text=True).stdout

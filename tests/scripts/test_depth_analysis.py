@@ -1,5 +1,5 @@
-"""The depth study's analysis helpers (scripts/pool_beds.py, scripts/bed_balance.py) on inputs
-whose answer is known in closed form. Run by CTest (tests/scripts/CMakeLists.txt)."""
+"""The depth study's analysis helpers (python/grainlift/beds.py, studies/depth/bed_balance.py)
+on inputs whose answer is known in closed form. Run by CTest (tests/scripts/CMakeLists.txt)."""
 import math
 import os
 import sys
@@ -7,9 +7,10 @@ import unittest
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "scripts"))
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+sys.path[:0] = [os.path.join(ROOT, "python"), os.path.join(ROOT, "studies", "depth")]
 from bed_balance import bed_balance, overburden  # noqa: E402
-from pool_beds import line_fit, pool, power_law  # noqa: E402
+from grainlift.beds import line_fit, pool, power_law  # noqa: E402
 
 
 def bed_run(scale_syy=1.0, lift=0.0):

@@ -24,8 +24,10 @@ import sys
 import tempfile
 import unittest
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from grainlift import io  # noqa: E402  (reads with h5py)
 
 BINARY, CASE = sys.argv[1], sys.argv[2]
 SETS = ["continuum.refinement=2", "continuum.nested=true"]
@@ -39,13 +41,12 @@ def command(out):
 
 
 def read(out):
-    with h5py.File(os.path.join(out, "fem.h5"), "r") as f:
-        d = f["diagnostics"]
-        series = {k: d[k][()] for k in d if k.startswith("level_")}
-        return {"partial": int(f["metadata"].attrs["partial"]),
-                "drag": float(f["means"].attrs["drag"]), "lift": float(f["means"].attrs["lift"]),
-                "cells": int(d.attrs["cells"]), "levels": series,
-                "vx": f["fields/velocity_x"][()] if "fields/velocity_x" in f else None}
+    f = io.read(out, "fem")
+    series = {k: v for k, v in f.datasets("diagnostics").items() if k.startswith("level_")}
+    return {"partial": int(f.metadata["partial"]),
+            "drag": float(f.means["drag"]), "lift": float(f.means["lift"]),
+            "cells": int(f.diagnostics["cells"]), "levels": series,
+            "vx": f.get("fields/velocity_x")}
 
 
 class FemLevelsKept(unittest.TestCase):

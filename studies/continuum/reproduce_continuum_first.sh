@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Reproduces the tables of docs/results-continuum.md (first measurements, not converged studies).
-#   scripts/reproduce_continuum_first.sh [OUT_DIR]      about 6 minutes on one core
+#   studies/continuum/reproduce_continuum_first.sh [OUT_DIR]      about 6 minutes on one core
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 O=${1:-runs/continuum}
 G=${GRAINLIFT:-build/bin/grainlift}
 S=(--solver fem --quiet --threads 1 --set output.fields=false --set output.vtu=false)
@@ -20,7 +20,7 @@ for wall in no_slip coulomb; do
     --set "continuum.box_half_size=[0.5,0.35]" --vary intruder.omega=0,10,20,40,80,200 \
     --out "$O/omega_$wall"
 done
-/usr/bin/python3 scripts/plot_sweep.py ld-omega "$O/ld_omega.png" \
+/usr/bin/python3 studies/kumar2019/plot_sweep.py ld-omega "$O/ld_omega.png" \
   "runs/kumar2019/omega_phi080/sweep.csv:DEM, Phi 0.8" \
   "$O/omega_no_slip/sweep.csv:mu(I), no-slip wall" "$O/omega_coulomb/sweep.csv:mu(I), Coulomb wall mu_w 0.5"
 # Regularisation: delta at h = 4 D (box 0.12 m x 0.08 m, refinement 1)

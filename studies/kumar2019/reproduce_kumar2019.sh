@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Reproduces docs/results-kumar2019.md: the reduced Kumar 2019 sweeps and their plots.
-#   scripts/reproduce_kumar2019.sh [OUT_DIR] [PART]
+#   studies/kumar2019/reproduce_kumar2019.sh [OUT_DIR] [PART]
 # PART = dense (the Phi 0.8 sweeps), dilute (Phi 0.35 and 0.135), fields (Fig. 7 flow fields),
 # fields_slow (the same at V0 = 0.25 m/s), phi0585 (Fig. 3b), seeds080 (two more Phi 0.8
 # beds), plots, or all (default, which leaves out fields_slow);
@@ -8,7 +8,7 @@
 # fields about 10 minutes, fields_slow 6, phi0585 9, seeds080 18 (times in docs/results-kumar2019.md).
 # Plots and tables go to OUT_DIR (default runs/kumar2019); docs/img/ holds the committed copies.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 OUT=${1:-runs/kumar2019}
 PART=${2:-all}
 G=${GRAINLIFT:-build/bin/grainlift}
@@ -101,11 +101,11 @@ plots() {
   for s in $SEEDS; do
     [ -f "$OUT/omega_phi0585/seed$s/sweep.csv" ] && phi0585+=("$OUT/omega_phi0585/seed$s/sweep.csv:Phi 0.585")
   done
-  $PY scripts/plot_sweep.py ld-omega "$OUT/ld_omega.png" "${phi080[@]}" "${phi035[@]}" "${phi0585[@]}"
-  $PY scripts/plot_sweep.py drag-speed "$OUT/drag_speed.png" "$OUT/speed_phi080/sweep.csv:Phi 0.8, Omega 0"
-  $PY scripts/plot_sweep.py ld-mu "$OUT/ld_mu.png" "${mu[@]}"
+  $PY studies/kumar2019/plot_sweep.py ld-omega "$OUT/ld_omega.png" "${phi080[@]}" "${phi035[@]}" "${phi0585[@]}"
+  $PY studies/kumar2019/plot_sweep.py drag-speed "$OUT/drag_speed.png" "$OUT/speed_phi080/sweep.csv:Phi 0.8, Omega 0"
+  $PY studies/kumar2019/plot_sweep.py ld-mu "$OUT/ld_mu.png" "${mu[@]}"
   local r="$OUT/omega_phi080"
-  $PY scripts/plot_distributions.py "$OUT/distributions_phi080.png" "$r/intruder.omega=0:Omega 0" \
+  $PY studies/kumar2019/plot_distributions.py "$OUT/distributions_phi080.png" "$r/intruder.omega=0:Omega 0" \
       "$r/intruder.omega=20:Omega 1" "$r/intruder.omega=80:Omega 4" "$r/intruder.omega=400:Omega 20"
   if [ -d "$OUT/fields_phi080" ]; then
     local cols=() w
@@ -116,12 +116,12 @@ plots() {
       done
       cols+=("$c")
     done
-    $PY scripts/plot_fields_fig7.py "$OUT/fields_fig7.png" "${cols[@]}"
-    $PY scripts/plot_fields_fig7.py --mirror "$OUT/fields_fig7_mirrored.png" "${cols[@]}" > /dev/null
+    $PY studies/kumar2019/plot_fields_fig7.py "$OUT/fields_fig7.png" "${cols[@]}"
+    $PY studies/kumar2019/plot_fields_fig7.py --mirror "$OUT/fields_fig7_mirrored.png" "${cols[@]}" > /dev/null
   fi
   local fs="$OUT/fields_phi080_v025"
   if [ -d "$fs/intruder.omega=50" ]; then
-    $PY scripts/plot_fields_fig7.py "$OUT/fields_fig7_v025.png" "$fs/intruder.omega=0" \
+    $PY studies/kumar2019/plot_fields_fig7.py "$OUT/fields_fig7_v025.png" "$fs/intruder.omega=0" \
         "$fs/intruder.omega=5" "$fs/intruder.omega=50"
   fi
 }

@@ -1,4 +1,4 @@
-"""The hydrostatic check of a DEM bed under a lid and gravity, for scripts/plot_depth_study.py.
+"""The hydrostatic check of a DEM bed under a lid and gravity, for studies/depth/plot_depth_study.py.
 
 Across a horizontal line through the whole (periodic) width, the time-averaged vertical stress
 carries everything above it: the lid's pressure, the weight of the grains between the line and

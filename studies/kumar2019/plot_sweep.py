@@ -9,18 +9,18 @@
 A table of `--solver both` gives one series per solver; CSV#dem or CSV#fem keeps one solver's
 rows.
 Error bars are the block-average standard errors (propagated for ratios). Tables given the
-same LABEL (independent seeds) are pooled (ld-omega also prints each bed's L/D and the spread
-across beds). Prints the table it plots, so the numbers can go
+same LABEL (independent seeds) are pooled by grainlift.stats.pooled_mean (ld-omega also prints
+each bed's L/D and the spread across beds). Prints the table it plots, so the numbers can go
 into docs/."""
-import csv
 import math
+import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
 import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.plots import plt  # noqa: E402
+from grainlift.stats import pooled_mean  # noqa: E402
 
 
 def first_number(text):
@@ -31,13 +31,14 @@ def first_number(text):
 def read(spec):
     path, _, label = spec.partition(":")
     path, _, only = path.partition("#")
-    rows = [r for r in csv.DictReader(open(path)) if r["solver"] in ((only,) if only else ("dem", "fem"))]
+    rows = [r for r in io.sweep_rows(path) if r["solver"] in ((only,) if only else ("dem", "fem"))]
     return rows, label or path
 
 
 def pooled(specs):
     """Tables that share a label (independent seeds) are pooled value by value: means of
-    drag, lift, torque; standard error sqrt(sum se^2) / n."""
+    drag, lift, torque and their errors by grainlift.stats.pooled_mean (the larger of the
+    between-bed error and sqrt(sum se^2) / n)."""
     groups = {}
     for spec in specs:
         rows, label = read(spec)
@@ -50,10 +51,12 @@ def pooled(specs):
         for i, r in enumerate(tables[0]):
             same = [s for t in tables for s in t if s["value"] == r["value"]]
             p = dict(r)
-            for key in ("drag", "lift", "torque", "contacts", "wall_seconds"):
+            for key in ("drag", "lift", "torque"):
+                pm = pooled_mean([num(s, key) for s in same],
+                                 [num(s, key + "_stderr") for s in same])
+                p[key], p[key + "_stderr"] = str(pm.mean), str(pm.error)
+            for key in ("contacts", "wall_seconds"):
                 p[key] = str(np.mean([num(s, key) for s in same]))
-            for key in ("drag_stderr", "lift_stderr", "torque_stderr"):
-                p[key] = str(math.sqrt(sum(num(s, key) ** 2 for s in same)) / len(same))
             p["beds_ld"] = [num(s, "lift") / num(s, "drag") for s in same]
             out.append(p)
         yield out, f"{label} ({len(tables)} seeds)"
@@ -111,10 +114,10 @@ def main(argv):
                 line = (f"{xi:8.3f} {yi:8.4f} {ei:8.4f} {num(r,'drag'):10.4g} {num(r,'lift'):10.4g}"
                         f" {num(r,'wall_seconds'):8.1f} {num(r,'contacts'):7.3f}")
                 if "beds_ld" in r:
-                    b = np.array(r["beds_ld"])
-                    sd = b.std(ddof=1) if len(b) > 1 else float("nan")
+                    b = r["beds_ld"]
+                    sem = pooled_mean(b).between
                     line += ("  [" + " ".join(f"{v:+.3f}" for v in b)
-                             + f"; sd {sd:.3f}; sem {sd / math.sqrt(len(b)):.3f}]")
+                             + f"; sd {sem * math.sqrt(len(b)):.3f}; sem {sem:.3f}]")
                 print(line)
         elif mode == "drag-speed":
             x = np.array([first_number(r["value"]) for r in rows])

@@ -6,7 +6,7 @@ cause for the DEM; the residual history for the FEM). A NaN anywhere in an outpu
 (any other exit code, a signal) or a failure without a diagnosis is a defect and makes the
 script exit 1 (the `stress` test runs it with --quick).
 
-  scripts/stability_map.py BINARY OUT_DIR [--quick] [--doc docs/stability.md --figure docs/img/stability_map.png]
+  studies/stability_map/stability_map.py BINARY OUT_DIR [--quick] [--doc docs/stability.md --figure docs/img/stability_map.png]
 
 DEM grid (cases/kumar2019/reduced_phi080.toml, V0 1 m/s, Omega 2, a few d of travel): dt from
 0.01 to 0.5 of the binary collision time; contacts 10x and 100x stiffer at the case's dt; Omega
@@ -24,10 +24,10 @@ import subprocess
 import sys
 import time
 
-import h5py
-import numpy as np
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
 KUMAR = os.path.join(ROOT, "cases/kumar2019/reduced_phi080.toml")
 DEMO = os.path.join(ROOT, "cases/demo/demo.toml")
 GUILLARD = os.path.join(ROOT, "cases/guillard2014/gradient.toml")
@@ -98,17 +98,16 @@ def non_finite(path):
     except the NaN that marks field cells inside the intruder or outside the FE mesh
     (docs/schema.md): in /fields, only infinities count."""
     bad = []
-    with h5py.File(path, "r") as f:
-        def visit(name, obj):
-            for k, v in obj.attrs.items():
-                if isinstance(v, (float, np.floating)) and not math.isfinite(v):
-                    bad.append(f"{name}@{k}")
-            if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f":
-                v = obj[()]
-                masked = name.startswith("fields/")
-                if np.any(np.isinf(v)) or (not masked and np.any(np.isnan(v))):
-                    bad.append(name)
-        f.visititems(visit)
+    datasets, groups = io.read(path).items()
+    for name, attrs in groups:
+        for k, v in attrs.items():
+            if isinstance(v, (float, np.floating)) and not math.isfinite(v):
+                bad.append(f"{name}@{k}")
+    for name, v in datasets:
+        if isinstance(v, np.ndarray) and v.dtype.kind == "f":
+            masked = name.startswith("fields/")
+            if np.any(np.isinf(v)) or (not masked and np.any(np.isnan(v))):
+                bad.append(name)
     return bad
 
 
@@ -132,14 +131,14 @@ def run_one(binary, out_dir, solver, what, value, case, sets, timeout):
         bad = non_finite(h5) if os.path.exists(h5) else ["no output file"]
         if bad:
             rec["defect"] = "non-finite output: " + ", ".join(bad[:5])
-        with h5py.File(h5, "r") as f:
-            d = f["diagnostics"].attrs
-            if solver == "fem":
-                rec["steps"] = int(d.get("nonlinear_iterations", -1))
-            m = f["means"].attrs if "means" in f else {}
-            for k in ("drag", "lift", "drag_stderr", "lift_stderr"):
-                if k in m:
-                    rec[k] = float(m[k])
+        f = io.read(h5)
+        d = f.diagnostics
+        if solver == "fem":
+            rec["steps"] = int(d.get("nonlinear_iterations", -1))
+        m = f.means
+        for k in ("drag", "lift", "drag_stderr", "lift_stderr"):
+            if k in m:
+                rec[k] = float(m[k])
     elif code == 2:
         rec["outcome"] = "refused"
     elif code == 1:
@@ -190,9 +189,7 @@ def table(records):
 
 
 def figure(records, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from grainlift.plots import plt
     from matplotlib.patches import Rectangle
     groups = []
     for r in records:

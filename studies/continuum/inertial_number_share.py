@@ -11,23 +11,24 @@ I_LOW (default 0.0191, the lower end of mu(I)'s well-posed range, docs/continuum
 The inversion is Jop's law: for a run with Barker-Gray's (the default since session 5) it holds
 only above I_N = 0.0287, so use it on runs with continuum.regularisation = "chauchat_medale".
 """
+import os
 import sys
 
-import h5py
-import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
+import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
 
 MU_S, MU_2, I_0 = 0.38, 0.64, 0.279
 
 
 def main():
-    if len(sys.argv) not in (2, 3):
+    if len(sys.argv) not in (2, 3) or sys.argv[1] in ("-h", "--help"):
         print(__doc__, file=sys.stderr)
         return 2
     i_low = float(sys.argv[2]) if len(sys.argv) == 3 else 0.0191
-    with h5py.File(sys.argv[1], "r") as f:
-        g = f["fields"]
-        p = g["pressure"][:]
-        sxx, syy, sxy = g["stress_xx"][:] + p, g["stress_yy"][:] + p, g["stress_xy"][:]
+    g = io.read(sys.argv[1])["fields"]
+    p = g["pressure"]
+    sxx, syy, sxy = g["stress_xx"] + p, g["stress_yy"] + p, g["stress_xy"]
     inside = np.isfinite(p) & (p > 0)
     tau = np.sqrt((sxx ** 2 + syy ** 2 + 2 * sxy ** 2) / 2)[inside]
     mu = tau / p[inside]

@@ -9,28 +9,19 @@ counter-clockwise spin), (c) N(theta) / N, (d) slip fraction. The first run is t
 normalisation of (a) (give the Omega = 0 run first, as the paper does). Prints the table."""
 import os
 import sys
-import tomllib
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
 import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.plots import plt  # noqa: E402
 
 
 def intruder_friction(f):
-    """mu between grains and intruder: the case file, then its --set overrides."""
-    case = tomllib.loads(f["case/text"][()].decode())
+    """mu between grains and intruder: the case file with its --set overrides."""
+    case = f.case()
     mu = case.get("grains", {}).get("friction", 0.5)
     mu_i = case.get("intruder", {}).get("friction")
-    for line in f["case/overrides"][()].decode().splitlines():
-        key, _, value = line.partition("=")
-        if key == "grains.friction":
-            mu = float(value)
-        if key == "intruder.friction":
-            mu_i = float(value)
-    return mu_i if mu_i is not None else mu
+    return float(mu_i if mu_i is not None else mu)
 
 
 def main(argv):
@@ -42,14 +33,14 @@ def main(argv):
     d0 = None
     for spec in runs:
         path, _, label = spec.partition(":")
-        with h5py.File(os.path.join(path, "dem.h5"), "r") as f:
-            h = f["histogram"]
-            c = np.degrees(0.5 * (h["theta_lo"][:] + h["theta_hi"][:]))
-            fn, ft, n = h["normal_force"][:], h["tangential_force"][:], h["contact_count"][:]
-            slip = h["slip_fraction"][:]
-            mu = intruder_friction(f)
-            drag = f["means"].attrs["drag"]
-            omega_ratio = f["derived"].attrs["spin_ratio"]
+        f = io.read(path, "dem")
+        h = f["histogram"]
+        c = np.degrees(0.5 * (h["theta_lo"][:] + h["theta_hi"][:]))
+        fn, ft, n = h["normal_force"][:], h["tangential_force"][:], h["contact_count"][:]
+        slip = h["slip_fraction"][:]
+        mu = intruder_friction(f)
+        drag = f["means"].attrs["drag"]
+        omega_ratio = f["derived"].attrs["spin_ratio"]
         d0 = drag if d0 is None else d0
         label = label or f"Omega = {omega_ratio:g}"
         with np.errstate(invalid="ignore", divide="ignore"):

@@ -17,44 +17,23 @@ import math
 import os
 import sys
 
-import h5py
-import numpy as np
-
-
-def corrected_stderr(x, blocks):
-    """Mean, block error and correlation-corrected block error of x (the C++ block_mean)."""
-    n = len(x)
-    b = max(1, min(blocks, n))
-    length = n // b
-    start = n - length * b
-    m = x[start:].reshape(b, length).mean(axis=1)
-    mean = m.mean()
-    var = float(((m - mean) ** 2).sum())
-    if b < 2:
-        return mean, float("nan"), float("nan")
-    se = math.sqrt(var / (b - 1) / b)
-    r = float(((m[:-1] - mean) * (m[1:] - mean)).sum() / var) if b >= 3 and var > 0 else 0.0
-    rho = min(0.9, max(0.0, r))
-    return mean, se, se * math.sqrt((1 + rho) / (1 - rho))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
+from grainlift import io  # noqa: E402
+from grainlift.stats import block_mean  # noqa: E402
 
 
 def table(path, blocks, targets):
-    f = h5py.File(os.path.join(path, "dem.h5") if os.path.isdir(path) else path, "r")
-    t = f["forces/time"][()]
-    fx, fy = f["forces/fx"][()], f["forces/fy"][()]
-    g = f["geometry"].attrs
-    vx, vy = g["velocity_x"], g["velocity_y"]
-    v = math.hypot(vx, vy)
-    ex, ey = vx / v, vy / v
-    drag, lift = -(fx * ex + fy * ey), -fx * ey + fy * ex
-    diag = f["diagnostics"].attrs
+    f = io.read(path, "dem")
+    t = f["forces/time"]
+    drag, lift = f.drag_lift()
+    g = f.geometry
+    v = math.hypot(*f.velocity())
+    diag = f.diagnostics
     first = int(diag["steady_start_sample"])
-    steps = int(diag["steps"])
-    wall = float(f["metadata"].attrs["wall_seconds"])
-    notes = f["metadata"].attrs["notes"]
-    notes = notes.decode() if isinstance(notes, bytes) else str(notes)
+    wall = f.wall_seconds
+    notes = io.text(f.metadata["notes"])
     d = g["grain_diameter"]
-    nb = blocks or int(f["means"].attrs["blocks"])
+    nb = blocks or int(f.means["blocks"])
     print(f"## {path}")
     print(f"{notes.split(', pressure_scale')[0]}; wall {wall:.1f} s; {nb} blocks")
     print()
@@ -66,8 +45,8 @@ def table(path, blocks, targets):
         end = first + (n_avg * k) // 10
         if end - first < 5 * nb:
             continue
-        md, _, sd = corrected_stderr(drag[first:end], nb)
-        ml, _, sl = corrected_stderr(lift[first:end], nb)
+        bd, bl = block_mean(drag[first:end], nb), block_mean(lift[first:end], nb)
+        md, sd, ml, sl = bd.mean, bd.stderr_corrected, bl.mean, bl.stderr_corrected
         travel = t[end - 1] * v / d
         travel0 = t[first] * v / d
         w = wall * end / len(t)

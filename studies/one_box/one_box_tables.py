@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""The tables of the cross-check on one box (scripts/study_one_box.sh): for each scene, FEM / DEM
+"""The tables of the cross-check on one box (studies/one_box/study_one_box.sh): for each scene, FEM / DEM
 for drag, lift, torque and L/D with the difference in units of the combined error (the DEM's
 block standard error, the FEM's mesh-error estimate), and the rms difference of sigma_n(theta)
 and sigma_t(theta) over P0; the same for the continuum's former box (continuum.box_half_size).
 Every number comes from `grainlift compare --json` on the run folders.
 
-    python3 scripts/one_box_tables.py build/bin/grainlift runs/one_box
+    python3 studies/one_box/one_box_tables.py build/bin/grainlift runs/one_box
 """
 import json
 import math
@@ -13,9 +13,13 @@ import os
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
+from grainlift import io  # noqa: E402
+from grainlift.windows import window_mean  # noqa: E402
+
 # The depth sweep's DEM beyond h = 8 D: pooled over three beds (one at h = 2 D), forces over
 # 20-60 d of travel, from docs/results-guillard2014.md's pooled table ("The depth sweep":
-# scripts/study_depth.sh d6 + d6beds, scripts/plot_depth_study.py --window 20 60, 858bc40):
+# studies/depth/study_depth.sh d6 + d6beds, plot_depth_study.py --window 20 60, 858bc40):
 # name: (drag, drag error, lift, lift error) in N/m.
 DEPTH_DEM_POOLED = {
     "free_surface_h2": (0.02849, 0.00095, 0.01377, 0.0018),
@@ -36,10 +40,7 @@ def compare(grainlift, a, b):
     return json.loads(out)
 
 
-def summary(folder, solver):
-    path = os.path.join(folder, "summary.json")
-    with open(path) as f:
-        return json.load(f)[solver]
+summary = io.summary
 
 
 def z(a, ea, b, eb):
@@ -101,11 +102,8 @@ VARIANTS = [("fem", "the DEM's box (far field auto)"), ("fem_open", "open far fi
 
 def wake_windows(root):
     """The DEM's means before and after the intruder meets its own wake (its /diagnostics
-    wake_travel), from the force samples, with plot_depth_study.py's window_mean (blocks of 4 d
+    wake_travel), from the force samples, with grainlift.windows.window_mean (blocks of 4 d
     of travel): the two states the continuum's open and periodic far fields stand for."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import h5py
-    from plot_depth_study import travel_series, window_mean
     print("\n### The DEM before and after its own wake (first crossing: open; after: periodic)\n")
     print("| scene | window (d) | drag | lift | torque | FEM open: drag, lift, torque | "
           "FEM periodic: drag, lift, torque |")
@@ -114,13 +112,12 @@ def wake_windows(root):
         path = os.path.join(root, name, "dem", "dem.h5")
         if not os.path.exists(path):
             continue
-        with h5py.File(path, "r") as f:
-            d = f["diagnostics"].attrs
-            if "wake_travel" not in d:
-                continue
-            wake, lo, hi = float(d["wake_travel"]), float(d["mean_travel_from"]), float(d["mean_travel_to"])
-            travel, drag, lift = travel_series(f)
-            torque = f["forces/torque"][:]
+        f = io.read(path)
+        d = f.diagnostics
+        if "wake_travel" not in d:
+            continue
+        wake, lo, hi = float(d["wake_travel"]), float(d["mean_travel_from"]), float(d["mean_travel_to"])
+        travel, (drag, lift), torque = f.travel(), f.drag_lift(), f["forces/torque"]
         fem = {}
         for v in ("fem_open", "fem_periodic", "fem"):
             sp = os.path.join(root, name, v, "summary.json")
@@ -164,6 +161,9 @@ def omega_table(root):
 
 
 def main():
+    if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        return 0 if sys.argv[1:2] in (["-h"], ["--help"]) else 2
     grainlift, root = sys.argv[1], sys.argv[2]
     wake_windows(root)
     omega_table(root)
@@ -195,17 +195,14 @@ def main():
             so = summary(os.path.dirname(old), "fem")
             old_cell = f"{so.get('lift_over_buoyancy', float('nan')):.2f}, {so.get('drag_coefficient', float('nan')):.2f}"
         lb = s.get("lift_over_buoyancy", float("nan"))
-        import h5py  # python3-h5py, installed by scripts/install-deps
-        with h5py.File(os.path.join(fem_dir, "fem.h5"), "r") as h:
-            d = h["diagnostics"].attrs
-            far = d["far_field"]
-            far = far.decode() if isinstance(far, bytes) else str(far)
-            # the mesh-error estimate (the change from the next coarser level)
-            mesh_d, mesh_l = float(d.get("drag_mesh_error", 0.0)), float(d.get("lift_mesh_error", 0.0))
+        d = io.read(fem_dir, "fem").diagnostics
+        far = io.text(d["far_field"])
+        # the mesh-error estimate (the change from the next coarser level)
+        mesh_d, mesh_l = float(d.get("drag_mesh_error", 0.0)), float(d.get("lift_mesh_error", 0.0))
         print(f"| {name} | {s['pressure_scale']:.4g} | {dl / buoy:.2f} +- {edl / buoy:.2f} | {lb:.2f} | "
               f"{ratio_cell(dl, edl, s['lift'], mesh_l)} | {dd / cd_scale:.2f} +- {edd / cd_scale:.2f} | "
               f"{s['drag_coefficient']:.2f} | {ratio_cell(dd, edd, s['drag'], mesh_d)} | {far} | {old_cell} |")
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

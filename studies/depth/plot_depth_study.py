@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Figures and table of the depth sweep (scripts/study_depth.sh, docs/results-guillard2014.md).
+"""Figures and table of the depth sweep (studies/depth/study_depth.sh, docs/results-guillard2014.md).
 
-    python3 scripts/plot_depth_study.py OUT_DIR [IMG_DIR] [--window LO HI]
+    python3 studies/depth/plot_depth_study.py OUT_DIR [IMG_DIR] [--window LO HI]
 
 --window LO HI: the DEM's drag and lift over that travel window (grain diameters) from the force
 samples, instead of the files' averages (surface stresses and fields stay the files').
 
-Reads OUT_DIR/<series>/<run>/<solver>.h5 for the series of scripts/study_depth.sh (dem: the
+Reads OUT_DIR/<series>/<run>/<solver>.h5 for the series of study_depth.sh (dem: the
 first box, 4 D of bed below the centre; dem_rigid: the same with a rigid lid; dem_d6: 6 D of
 bed below; dem_d6_s2, dem_d6_s3: its beds 2 and 3, pooled with it into dem_d6_pooled;
 fem_full, fem_linearised) (the grainlift schema, nothing from logs) and writes into IMG_DIR
@@ -24,15 +24,14 @@ import math
 import os
 import sys
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
 import numpy as np  # noqa: E402
-
 from bed_balance import bed_balance, overburden  # noqa: E402
-from pool_beds import line_fit, pool_series, pooled_error, power_law  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.beds import line_fit, pool_series, power_law  # noqa: E402
+from grainlift.plots import plt  # noqa: E402
+from grainlift.stats import pooled_mean  # noqa: E402
+from grainlift.windows import window_mean  # noqa: E402
 
 SERIES = ("dem", "dem_rigid", "dem_d6", "dem_d6_s2", "dem_d6_s3", "fem_full", "fem_linearised")
 BEDS = ("dem_d6_s2", "dem_d6_s3")  # the other beds of dem_d6, pooled into dem_d6_pooled
@@ -54,78 +53,64 @@ def main_dem(runs):
 
 
 def travel_series(f):
-    """A DEM file's force samples against travel (in grain diameters): travel, drag, lift (the
-    sweep's intruder moves along +x: drag = -fx, lift = fy)."""
-    g = f["geometry"].attrs
-    if float(g["velocity_y"]) != 0 or float(g["velocity_x"]) <= 0:
-        raise ValueError("travel windows need an intruder moving along +x")
-    travel = f["forces/time"][:] * float(g["velocity_x"]) / float(g["grain_diameter"])
-    return travel, -f["forces/fx"][:], f["forces/fy"][:]
-
-
-def window_mean(travel, x, lo, hi, block=4.0):
-    """Mean of x over lo <= travel < hi and its standard error from blocks of `block` grain
-    diameters of travel (the files' own: 20 blocks over 80 d)."""
-    sel = x[(travel >= lo) & (travel < hi)]
-    nb = max(2, int(round((hi - lo) / block)))
-    means = np.array([b.mean() for b in np.array_split(sel[: len(sel) // nb * nb], nb)])
-    return float(means.mean()), float(means.std(ddof=1) / math.sqrt(nb))
+    """A DEM file's force samples against travel (in grain diameters): travel, drag, lift."""
+    drag, lift = f.drag_lift()
+    return f.travel(), drag, lift
 
 
 def read_run(path, window=None):
     """The scalars and distributions of one result file; with window = (lo, hi) the DEM's drag
     and lift (and their errors) over that travel window, in grain diameters, instead of the
     file's averaging window (the surface stresses and fields stay the file's)."""
-    with h5py.File(path, "r") as f:
-        g = f["geometry"].attrs
-        m = f["means"].attrs
-        der = f["derived"].attrs
-        r = {
-            "D": float(g["intruder_diameter"]),
-            "rho": float(g["bulk_density"]),
-            "g_grains": math.hypot(float(g["gravity_x"]), float(g["gravity_y"])),
-            "g_ref": float(g.get("reference_gravity", 0.0)),
-            "h": float(g.get("equivalent_depth", 0.0)),
-            "P0": float(g["pressure_scale"]),
-            "width": float(g["domain_xmax"]) - float(g["domain_xmin"]),
-            "below": float(g["intruder_y"]) - float(g["domain_ymin"]),
-            "top": float(g["domain_ymax"]) - float(g["intruder_y"]),
-            "drag": float(m["drag"]),
-            "lift": float(m["lift"]),
-            "drag_err": float(m.get("drag_stderr", 0.0)),
-            "lift_err": float(m.get("lift_stderr", 0.0)),
-            "B": float(der.get("buoyancy", float("nan"))),
-            "Cd": float(der.get("drag_coefficient", float("nan"))),
-            "wall_s": float(f["metadata"].attrs["wall_seconds"]),
-            "lid_mean": float(f["lid"].attrs["mean"]) if "lid" in f else float("nan"),
-            "lid_target": float(f["lid"].attrs["target"]) if "lid" in f else float("nan"),
-            "far_field": float(f["far_field"].attrs["mean"]) if "far_field" in f else float("nan"),
-        }
-        if r["g_ref"] == 0:
-            r["g_ref"] = r["g_grains"]
-        r["gradient"] = r["g_grains"] > 0
-        r["theta"] = f["surface/theta"][:]
-        r["sn"] = f["surface/sigma_n"][:]
-        r["sn_err"] = f["surface/sigma_n_stderr"][:] if "sigma_n_stderr" in f["surface"] else None
-        r["sym"] = f["derived/sigma_n_symmetric"][:]
-        r["anti"] = f["derived/sigma_n_antisymmetric"][:]
-        if "fields" in f and "pressure" in f["fields"]:
-            r["fx"] = f["fields/x"][:]
-            r["fy"] = f["fields/y"][:]
-            r["fp"] = f["fields/pressure"][:]
-            r["fsyy"] = -f["fields/stress_yy"][:]  # compressive positive
-            if "area_fraction" in f["fields"]:  # DEM only
-                r["fphi"] = f["fields/area_fraction"][:]
-        if "diagnostics" in f and "area_fraction" in f["diagnostics"].attrs:
-            r["rho_s"] = r["rho"] / float(f["diagnostics"].attrs["area_fraction"])
-        r["lift_fields"] = r["lift"]  # over the files' window, as the fields (bed_balance.py)
-        solver = f["metadata"].attrs["solver"]
-        if (solver.decode() if isinstance(solver, bytes) else solver) == "dem":
-            r["series_t"] = travel_series(f)  # (travel, drag, lift), for windows
-            if window is not None:
-                travel, drag, lift = r["series_t"]
-                r["drag"], r["drag_err"] = window_mean(travel, drag, *window)
-                r["lift"], r["lift_err"] = window_mean(travel, lift, *window)
+    f = io.read(path)
+    g = f.geometry
+    m = f.means
+    der = f.derived
+    r = {
+        "D": float(g["intruder_diameter"]),
+        "rho": float(g["bulk_density"]),
+        "g_grains": math.hypot(float(g["gravity_x"]), float(g["gravity_y"])),
+        "g_ref": float(g.get("reference_gravity", 0.0)),
+        "h": float(g.get("equivalent_depth", 0.0)),
+        "P0": float(g["pressure_scale"]),
+        "width": float(g["domain_xmax"]) - float(g["domain_xmin"]),
+        "below": float(g["intruder_y"]) - float(g["domain_ymin"]),
+        "top": float(g["domain_ymax"]) - float(g["intruder_y"]),
+        "drag": float(m["drag"]),
+        "lift": float(m["lift"]),
+        "drag_err": float(m.get("drag_stderr", 0.0)),
+        "lift_err": float(m.get("lift_stderr", 0.0)),
+        "B": float(der.get("buoyancy", float("nan"))),
+        "Cd": float(der.get("drag_coefficient", float("nan"))),
+        "wall_s": float(f["metadata"].attrs["wall_seconds"]),
+        "lid_mean": float(f["lid"].attrs["mean"]) if "lid" in f else float("nan"),
+        "lid_target": float(f["lid"].attrs["target"]) if "lid" in f else float("nan"),
+        "far_field": float(f["far_field"].attrs["mean"]) if "far_field" in f else float("nan"),
+    }
+    if r["g_ref"] == 0:
+        r["g_ref"] = r["g_grains"]
+    r["gradient"] = r["g_grains"] > 0
+    r["theta"] = f["surface/theta"][:]
+    r["sn"] = f["surface/sigma_n"][:]
+    r["sn_err"] = f["surface/sigma_n_stderr"][:] if "sigma_n_stderr" in f["surface"] else None
+    r["sym"] = f["derived/sigma_n_symmetric"][:]
+    r["anti"] = f["derived/sigma_n_antisymmetric"][:]
+    if "fields" in f and "pressure" in f["fields"]:
+        r["fx"] = f["fields/x"][:]
+        r["fy"] = f["fields/y"][:]
+        r["fp"] = f["fields/pressure"][:]
+        r["fsyy"] = -f["fields/stress_yy"][:]  # compressive positive
+        if "area_fraction" in f["fields"]:  # DEM only
+            r["fphi"] = f["fields/area_fraction"][:]
+    if "diagnostics" in f and "area_fraction" in f["diagnostics"].attrs:
+        r["rho_s"] = r["rho"] / float(f["diagnostics"].attrs["area_fraction"])
+    r["lift_fields"] = r["lift"]  # over the files' window, as the fields (bed_balance.py)
+    if f.solver == "dem":
+        r["series_t"] = travel_series(f)  # (travel, drag, lift), for windows
+        if window is not None:
+            travel, drag, lift = r["series_t"]
+            r["drag"], r["drag_err"] = window_mean(travel, drag, *window)
+            r["lift"], r["lift_err"] = window_mean(travel, lift, *window)
     r["hD"] = r["h"] / r["D"]
     r["rgD"] = r["rho"] * r["g_ref"] * r["D"]
     if window is not None and r["h"] > 0 and not math.isnan(r["Cd"]):
@@ -469,8 +454,8 @@ def window_table(runs):
                 cells.append("-")
                 continue
             means = [window_mean(b["series_t"][0], b["series_t"][2], lo, hi) for b in beds]
-            err = pooled_error([m for m, _ in means], [e for _, e in means])[0]
-            cells.append(f"{np.mean([m for m, _ in means]) / r['B']:.1f} +- {err / r['B']:.1f}")
+            p = pooled_mean([m for m, _ in means], [e for _, e in means])
+            cells.append(f"{p.mean / r['B']:.1f} +- {p.error / r['B']:.1f}")
         print(f"| {n} | {r['width'] / r['D']:.0f} | {len(beds)} | " + " | ".join(cells) + " |")
 
 
@@ -485,7 +470,7 @@ def main():
             print("--window needs two numbers: the travel window in grain diameters", file=sys.stderr)
             return 2
         del args[k:k + 3]
-    if not args:
+    if not args or args[0] in ("-h", "--help"):
         print(__doc__)
         return 2
     out = args[0]

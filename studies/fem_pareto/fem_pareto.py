@@ -1,44 +1,40 @@
 #!/usr/bin/env python3
 """FEM error against time: a Pareto table of drag and lift against wall time, per level.
 
-    scripts/fem_pareto.py NESTED_RUN... [-- FLAT_RUN...]
+    studies/fem_pareto/fem_pareto.py NESTED_RUN... [-- FLAT_RUN...]
 
 Each argument is an output folder of `grainlift run CASE --solver fem` (fem.h5, summary.json)
 at one continuum.refinement, coarsest first. The reference is the Richardson extrapolation of
-the three finest runs of the first group (refinements r-2, r-1, r, a ratio 2 of mesh sizes):
-order p = log2(|f_{r-1} - f_{r-2}| / |f_r - f_{r-1}|), limit f_r + (f_r - f_{r-1}) / (2^p - 1).
-Its uncertainty is quoted as the size of its last correction |f_inf - f_r|. Where the changes
-are not monotone or the order is outside [0.5, 3] (not yet asymptotic) the reference is f_r
-and its uncertainty the last change |f_r - f_{r-1}|. The time exponent is
+the three finest runs of the first group (refinements r-2, r-1, r, a ratio 2 of mesh sizes) by
+grainlift.stats.richardson: order p = log2((f_{r-1} - f_{r-2}) / (f_r - f_{r-1})), limit
+f_r + (f_r - f_{r-1}) / (2^p - 1), uncertainty the size of its last correction |f_inf - f_r|.
+Where the changes are not monotone or the order is outside [0.5, 3] (not yet asymptotic) the
+reference is f_r and its uncertainty the last change |f_r - f_{r-1}|. The time exponent is
 the least-squares slope of log(wall time) against log(unknowns) over the levels with dofs >= 3,000.
 """
-import json
 import math
+import os
 import sys
 
-import h5py
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
+from grainlift import io  # noqa: E402
+from grainlift.stats import richardson as richardson_rule  # noqa: E402
 
 
 def read(folder):
-    s = json.load(open(folder + "/summary.json"))["fem"]
-    with h5py.File(folder + "/fem.h5") as f:
-        a = f["diagnostics"].attrs
-        dofs = int(a["dofs"])
-        newton = int(a["newton_steps"]) + int(a["picard_steps"])
-        solves = int(a["linear_solves"])
+    s = io.summary(folder, "fem")
+    a = io.read(folder, "fem").diagnostics
+    dofs = int(a["dofs"])
+    newton = int(a["newton_steps"]) + int(a["picard_steps"])
+    solves = int(a["linear_solves"])
     return {"drag": s["drag"], "lift": s["lift"], "seconds": s["wall_seconds"], "dofs": dofs,
             "steps": newton, "solves": solves, "folder": folder}
 
 
 def richardson(f1, f2, f3):
-    d1, d2 = f2 - f1, f3 - f2
-    if d1 == 0 or d2 == 0 or d1 * d2 < 0:
-        return f3, float("nan"), abs(d2)  # not monotone: no extrapolation; error bar the last change
-    p = math.log2(abs(d1) / abs(d2))
-    if not 0.5 <= p <= 3.0:  # outside the orders a Q2-Q1 force can have: not asymptotic yet
-        return f3, p, abs(d2)
-    lim = f3 + d2 / (2 ** p - 1)
-    return lim, p, abs(lim - f3)
+    """(reference, order, uncertainty) of three levels halving the mesh size."""
+    r = richardson_rule((4.0, 2.0, 1.0), (f1, f2, f3))
+    return r.limit, r.order, r.error
 
 
 def slope(runs):
@@ -51,6 +47,9 @@ def slope(runs):
 
 
 def main(argv):
+    if not argv or argv[0] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        sys.exit(0 if argv else 2)
     if "--" in argv:
         k = argv.index("--")
         groups = [argv[:k], argv[k + 1:]]

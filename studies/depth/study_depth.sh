@@ -2,7 +2,7 @@
 # The depth sweep of docs/results-guillard2014.md (issue 13): Guillard et al. 2014's lift and drag
 # against depth in 2D, DEM and FEM on the same domains, with the gradient (heavy lid, free surface)
 # and without it (gravity on the lid only).
-#   scripts/study_depth.sh [dem|fem|plots|all|rigid|d6|d6beds|box] [OUT_DIR]  (default all, runs/depth_study)
+#   studies/depth/study_depth.sh [dem|fem|plots|all|rigid|d6|d6beds|box] [OUT_DIR]  (default all, runs/depth_study)
 # rigid: the lid scenes again with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid.
 # d6: the whole DEM sweep again with 6 D of bed below the centre instead of 4 D (the box of
 # docs/results-guillard2014.md, its forces read over 20-60 d of travel: plots passes --window),
@@ -15,7 +15,7 @@
 # A run whose result exists is skipped (delete its folder to rerun). Case:
 # cases/guillard2014/depth_sweep.toml (a 2 D real bed above the intruder, 4 D below, 12 D wide).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 PART=${1:-all}
 O=${2:-runs/depth_study}
 G=$(realpath "${GRAINLIFT:-build/bin/grainlift}")
@@ -71,7 +71,7 @@ case $PART in
     configs | xargs -d '\n' -P 2 -I{} bash -c 'run_one fem full {}'
     # the O(eps) route needs gravity: not for the lid-only scenes
     configs | grep -v lid_only | xargs -d '\n' -P 2 -I{} bash -c 'run_one fem linearised {}' ;;&
-  plots|all) "$PY" scripts/plot_depth_study.py "$O" docs/img --window 20 60 ;;
+  plots|all) "$PY" studies/depth/plot_depth_study.py "$O" docs/img --window 20 60 ;;
   rigid)  # the lid scenes with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid
     configs | grep -v free_surface | xargs -d '\n' -P 2 -I{} bash -c 'run_one dem rigid {}' ;;
   d6)  # docs/results-guillard2014.md's box: 6 D of bed below.

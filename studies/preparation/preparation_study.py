@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Forces against the bed-preparation protocol (issue 17, docs/results-kumar2019.md).
+"""Forces against the bed-preparation protocol (issue 17, studies/preparation/README.md).
 
 Runs the reduced Kumar case (V0 0.25 m/s, 30 d of travel, means over 12.5-30 d) with
 dem.preparation = radius_growth and wall_compression, at the given area fractions, spins and
@@ -8,42 +8,39 @@ the bed's fingerprint: contacts per grain, share of grains within 0.001 d of a n
 area fraction of the central band and of the first ring round the intruder) and the pooled
 means per protocol (error = bed-to-bed standard deviation / sqrt(beds)).
 
-    scripts/preparation_study.py build/bin/grainlift WORK [--phi 0.8 0.818] [--omega 0 5]
+    studies/preparation/preparation_study.py build/bin/grainlift WORK [--phi 0.8 0.818] [--omega 0 5]
         [--seeds 1 2 3] [--protocols radius_growth wall_compression] [--set KEY=VALUE ...]
-        [--doc FILE --marker M]
+        [--doc studies/preparation/README.md --marker preparation]
 """
 import argparse
-import json
 import os
 import subprocess
 import sys
 
-import h5py  # python3-h5py (scripts/install-deps)
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pool_beds import mean_and_between  # noqa: E402
+HERE = os.path.dirname(os.path.realpath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path[:0] = [os.path.join(ROOT, "python"), os.path.join(ROOT, "scripts")]
 from doc_markers import replace_between_markers  # noqa: E402
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+from grainlift import io  # noqa: E402
+from grainlift.beds import mean_and_between  # noqa: E402
 CASES = {0.35: "cases/kumar2019/reduced_phi035.toml"}
 DENSE = "cases/kumar2019/reduced_phi080.toml"
 
 
 def fingerprint(h5):
-    with h5py.File(h5, "r") as f:
-        b = f["bed"]
-        edges = list(b["gap_edges"][:])
-        frac = list(b["gap_fraction"][:])
-        near = sum(x for e, x in zip(edges[:-1], frac) if e < 0.001)  # gap below 0.001 d
-        band_y = list(b["band_y"][:])
-        bands = list(b["band_area_fraction"][:])
-        yi = f["geometry"].attrs["intruder_y"]
-        k = min(range(len(band_y)), key=lambda i: abs(band_y[i] - yi))
-        centre = sum(bands[max(0, k - 1):k + 2]) / len(bands[max(0, k - 1):k + 2])
-        ring = list(b["ring_area_fraction"][:])
-        return dict(z=b.attrs["contacts_per_grain"], near=near, centre=centre, ring1=ring[0],
-                    ring3=sum(ring[:3]) / 3)
+    f = io.read(h5)
+    b = f["bed"]
+    edges = list(b["gap_edges"][:])
+    frac = list(b["gap_fraction"][:])
+    near = sum(x for e, x in zip(edges[:-1], frac) if e < 0.001)  # gap below 0.001 d
+    band_y = list(b["band_y"][:])
+    bands = list(b["band_area_fraction"][:])
+    yi = f.geometry["intruder_y"]
+    k = min(range(len(band_y)), key=lambda i: abs(band_y[i] - yi))
+    centre = sum(bands[max(0, k - 1):k + 2]) / len(bands[max(0, k - 1):k + 2])
+    ring = list(b["ring_area_fraction"][:])
+    return dict(z=b.attrs["contacts_per_grain"], near=near, centre=centre, ring1=ring[0],
+                ring3=sum(ring[:3]) / 3)
 
 
 def main():
@@ -76,7 +73,7 @@ def main():
                                          env=dict(os.environ, OMP_NUM_THREADS="1"))
                     if rc != 0:
                         sys.exit(f"failed ({rc}): {' '.join(cmd)}")
-                    s = json.load(open(os.path.join(out, "summary.json")))["dem"]
+                    s = io.summary(out, "dem")
                     fp = fingerprint(os.path.join(out, "dem.h5"))
                     row = dict(phi=phi, omega=omega, prot=prot, seed=seed, s=s, fp=fp)
                     rows.append(row)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
-#   scripts/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]
+#   studies/continuum/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]
 # Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
@@ -23,7 +23,7 @@
 #   spin_mesh  refinement 4 of spin_bg at Omega 2 and 10 (mpirun -np 2)    ~30 min
 #   plots  figures into docs/img from OUT_DIR
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 PART=${1:-all}
 O=${2:-runs/continuum_study}
 G=${GRAINLIFT:-build/bin/grainlift}
@@ -182,7 +182,7 @@ part_spin_mesh() {  # the spin case's mesh limit: refinement 4 at Omega 2 and 10
   LAUNCH=()
 }
 part_plots() {
-  "$PY" scripts/plot_continuum_study.py "$O" docs/img
+  "$PY" studies/continuum/plot_continuum_study.py "$O" docs/img
 }
 
 mkdir -p "$O"

@@ -8,7 +8,7 @@ cache). Prints one Markdown table row per run and the pooled means per configura
 over beds, error = bed-to-bed standard deviation / sqrt(beds)), with each code's wall time for
 the whole run.
 
-    scripts/lammps_study.py build/bin/grainlift WORK [--phi 0.35 0.8] [--omega 0 5]
+    studies/lammps/lammps_study.py build/bin/grainlift WORK [--phi 0.35 0.8] [--omega 0 5]
         [--seeds 1 2 3] [--travel 30] [--steady 12.5] [--speed 0.25] [--lmp lmp]
         [--set KEY=VALUE ...] [--doc docs/lammps.md --marker study]
 
@@ -16,7 +16,6 @@ the whole run.
 --doc replaces the text between "<!-- MARKER:begin -->" and "<!-- MARKER:end -->" there.
 """
 import argparse
-import json
 import math
 import os
 import shutil
@@ -24,12 +23,12 @@ import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pool_beds import mean_and_between  # noqa: E402
+HERE = os.path.dirname(os.path.realpath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path[:0] = [os.path.join(ROOT, "python"), os.path.join(ROOT, "scripts")]
 from doc_markers import replace_between_markers  # noqa: E402
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+from grainlift import io  # noqa: E402
+from grainlift.beds import mean_and_between  # noqa: E402
 CASES = {0.35: "cases/kumar2019/reduced_phi035.toml", 0.8: "cases/kumar2019/reduced_phi080.toml"}
 
 
@@ -44,7 +43,7 @@ def timed(cmd, cwd=None, log=None):
 
 
 def dem_summary(folder):
-    return json.load(open(os.path.join(folder, "summary.json")))["dem"]
+    return io.summary(folder, "dem")
 
 
 def main():

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Figures and tables of the continuum studies (scripts/study_continuum.sh).
+"""Figures and tables of the continuum studies (studies/continuum/study_continuum.sh).
 
     plot_continuum_study.py RUN_DIR IMG_DIR
 
@@ -14,55 +14,54 @@ import os
 import re
 import sys
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
 import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.plots import plt  # noqa: E402
+from grainlift.stats import MAX_ORDER, MIN_ORDER, richardson  # noqa: E402
 
 
 def load(path):
     """Scalars and the surface distributions of one fem.h5 (schema 2: /diagnostics, /derived)."""
-    with h5py.File(path, "r") as f:
-        g = dict(f["geometry"].attrs)
-        m = dict(f["means"].attrs)
-        meta = dict(f["metadata"].attrs)
-        diag = f["diagnostics"].attrs if "diagnostics" in f else {}
-        derived = f["derived"] if "derived" in f else None
-        r = {
-            "drag": float(m["drag"]),
-            "lift": float(m["lift"]),
-            "torque": float(m["torque"]),
-            "seconds": float(meta["wall_seconds"]),
-            "theta": f["surface/theta"][:],
-            "sigma_n": f["surface/sigma_n"][:],
-            "sigma_t": f["surface/sigma_t"][:],
-            # the traction itself for force integrals (files before the kernel average: /surface)
-            "sigma_n_pointwise": f["surface/sigma_n_pointwise" if "sigma_n_pointwise" in f["surface"]
-                                   else "surface/sigma_n"][:],
-            "D": float(g["intruder_diameter"]),
-            "rho": float(g["bulk_density"]),
-            "g": math.hypot(float(g["gravity_x"]), float(g["gravity_y"])),
-            "P0": float(g["pressure_scale"]),
-            "V": math.hypot(float(g["velocity_x"]), float(g["velocity_y"])),
-            "omega": float(g["omega"]),
-        }
-        if derived is not None:
-            r["spin_ratio"] = float(derived.attrs["spin_ratio"])
-            if "buoyancy" in derived.attrs:
-                r["buoyancy"] = float(derived.attrs["buoyancy"])
-            if "sigma_n_symmetric" in derived:
-                r["sigma_n_split"] = (derived["sigma_n_symmetric"][:], derived["sigma_n_antisymmetric"][:])
+    f = io.read(path)
+    g = f.geometry
+    m = f.means
+    meta = f.metadata
+    diag = f.diagnostics
+    derived = f["derived"] if "derived" in f else None
+    r = {
+        "drag": float(m["drag"]),
+        "lift": float(m["lift"]),
+        "torque": float(m["torque"]),
+        "seconds": float(meta["wall_seconds"]),
+        "theta": f["surface/theta"][:],
+        "sigma_n": f["surface/sigma_n"][:],
+        "sigma_t": f["surface/sigma_t"][:],
+        # the traction itself for force integrals (files before the kernel average: /surface)
+        "sigma_n_pointwise": f["surface/sigma_n_pointwise" if "sigma_n_pointwise" in f["surface"]
+                               else "surface/sigma_n"][:],
+        "D": float(g["intruder_diameter"]),
+        "rho": float(g["bulk_density"]),
+        "g": math.hypot(float(g["gravity_x"]), float(g["gravity_y"])),
+        "P0": float(g["pressure_scale"]),
+        "V": math.hypot(float(g["velocity_x"]), float(g["velocity_y"])),
+        "omega": float(g["omega"]),
+    }
+    if derived is not None:
+        r["spin_ratio"] = float(derived.attrs["spin_ratio"])
+        if "buoyancy" in derived.attrs:
+            r["buoyancy"] = float(derived.attrs["buoyancy"])
+        if "sigma_n_symmetric" in derived:
+            r["sigma_n_split"] = (derived["sigma_n_symmetric"][:], derived["sigma_n_antisymmetric"][:])
 
-        def get(key, conv=float):
-            return conv(diag[key]) if key in diag else None
+    def get(key, conv=float):
+        return conv(diag[key]) if key in diag else None
 
-        r["cells"] = get("cells", int)
-        r["dofs"] = get("dofs", int)
-        r["iterations"] = get("nonlinear_iterations", int)
-        r["correction_s"] = get("correction_seconds")
-        r["splits"] = get("continuation_splits", int)
+    r["cells"] = get("cells", int)
+    r["dofs"] = get("dofs", int)
+    r["iterations"] = get("nonlinear_iterations", int)
+    r["correction_s"] = get("correction_seconds")
+    r["splits"] = get("continuation_splits", int)
     return r
 
 
@@ -260,27 +259,18 @@ def part_delta(run_dir, img_dir):
     plt.close(fig)
 
 
-def richardson(values):
-    """Observed order p and extrapolated value from the last three of a sequence of halvings
-    of the cell size: p = log2(e1 / e2), e1, e2 the last two differences; None when the
-    differences do not shrink monotonically (no asymptotic range yet)."""
-    if len(values) < 3:
-        return None
-    e1, e2 = values[-2] - values[-3], values[-1] - values[-2]
-    if e1 == 0 or e2 == 0 or e1 * e2 < 0 or abs(e2) >= abs(e1):
-        return None
-    ratio = e1 / e2
-    return math.log2(ratio), values[-1] + e2 / (ratio - 1)
-
-
 def convergence_verdict(values):
-    """richardson() of a sequence of mesh levels, in words."""
-    est = richardson(values)
-    if est is None:
+    """grainlift.stats.richardson over the last three of a sequence of halvings of the cell
+    size, in words."""
+    if len(values) < 3:
+        return "fewer than three mesh levels"
+    est = richardson((4.0, 2.0, 1.0), values[-3:])
+    if math.isnan(est.order):
         return "no monotone convergence over the last three levels"
-    if est[0] < 0.5:
-        return f"observed order {est[0]:.2f}: not converging yet (no extrapolation)"
-    return f"observed order {est[0]:.2f}, extrapolated {est[1]:.4g}"
+    if not est.accepted:
+        return (f"observed order {est.order:.2f}: outside [{MIN_ORDER:g}, {MAX_ORDER:g}], "
+                "not in the asymptotic range (no extrapolation)")
+    return f"observed order {est.order:.2f}, extrapolated {est.limit:.4g}"
 
 
 def print_convergence(rows):
@@ -473,7 +463,7 @@ def spin_ratio(r):
 
 
 def dem_ld_omega(csv_path):
-    """(Omega, L/D, its standard error) of a DEM sweep.csv (scripts/reproduce_kumar2019.sh)."""
+    """(Omega, L/D, its standard error) of a DEM sweep.csv (studies/kumar2019/reproduce_kumar2019.sh)."""
     out = []
     with open(csv_path) as f:
         for row in csv.DictReader(f):

@@ -37,15 +37,15 @@ Descriptors printed per run (lengths in D, y relative to the intruder centre):
              T_g/(V0^2(1+Omega^2)) over cells with <Phi*> > 0.2 Phi_b within 2 D of the centre,
              the side it is on, and the ratio of the maxima on the two sides.
 """
+import os
 import sys
 import warnings
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "python"))
 import numpy as np  # noqa: E402
+from grainlift import io  # noqa: E402
+from grainlift.plots import plt  # noqa: E402
+from grainlift.stats import pooled_mean  # noqa: E402
 from scipy import ndimage  # noqa: E402
 
 
@@ -69,10 +69,11 @@ def load(spec):
     nanmask = np.isnan(beds[0]["area_fraction"])
     r["area_fraction"] = np.where(nanmask, np.nan, w / len(beds))
     r["velocity_x"], r["velocity_y"], r["granular_temperature"] = vx, vy, tg
-    n = len(beds)
-    m = {k: np.mean([b["means"][k] for b in beds]) for k in ("drag", "lift")}
-    for k in ("drag_stderr", "lift_stderr"):
-        m[k] = np.sqrt(sum(b["means"].get(k, 0) ** 2 for b in beds)) / n
+    m = {}
+    for k in ("drag", "lift"):  # grainlift.stats.pooled_mean over the beds
+        p = pooled_mean([b["means"][k] for b in beds],
+                        [b["means"].get(k + "_stderr", 0) for b in beds])
+        m[k], m[k + "_stderr"] = p.mean, p.error
     r["means"] = m
     r["wall_seconds"] = sum(b["wall_seconds"] for b in beds)
     r["path"] = " + ".join(b["path"] for b in beds)
@@ -83,16 +84,16 @@ def load(spec):
 
 def load_one(run_dir):
     path = run_dir if run_dir.endswith(".h5") else run_dir.rstrip("/") + "/dem.h5"
-    with h5py.File(path, "r") as f:
-        g, geo = f["fields"], f["geometry"].attrs
-        r = {k: g[k][:] for k in ("x", "y", "velocity_x", "velocity_y", "area_fraction",
-                                   "granular_temperature")}
-        r["attrs"] = dict(g.attrs)
-        D = float(geo["intruder_diameter"])
-        V = np.array([geo["velocity_x"], geo["velocity_y"]], float)
-        omega = float(geo["omega"])
-        means = dict(f["means"].attrs)
-        r["wall_seconds"] = float(f["metadata"].attrs["wall_seconds"])
+    f = io.read(path, "dem")
+    g, geo = f["fields"], f.geometry
+    r = {k: g[k] for k in ("x", "y", "velocity_x", "velocity_y", "area_fraction",
+                           "granular_temperature")}
+    r["attrs"] = dict(g.attrs)
+    D = float(geo["intruder_diameter"])
+    V = np.array([geo["velocity_x"], geo["velocity_y"]], float)
+    omega = float(geo["omega"])
+    means = dict(f.means)
+    r["wall_seconds"] = f.wall_seconds
     V0 = float(np.hypot(*V))
     if abs(V[1]) > 1e-12 * V0 or V[0] <= 0:
         raise SystemExit(f"{path}: the descriptors assume V along +x")
@@ -194,19 +195,10 @@ def side(yv, omega):
 def snapshots(path):
     """Number of field snapshots averaged, from the case and its overrides (the engine takes
     one every dem.field_every steps once the intruder has travelled dem.steady_travel)."""
-    import tomllib
-    with h5py.File(path, "r") as f:
-        case = tomllib.loads(f["case/text"][()].decode())
-        over = f["case/overrides"][()].decode().splitlines()
-        d = float(f["geometry"].attrs["grain_diameter"])
-        V0 = float(np.hypot(f["geometry"].attrs["velocity_x"], f["geometry"].attrs["velocity_y"]))
-    for line in over:
-        key, _, val = line.partition("=")
-        sec, _, k = key.strip().partition(".")
-        try:
-            case.setdefault(sec, {})[k] = tomllib.loads(f"v = {val}")["v"]
-        except Exception:
-            pass
+    f = io.read(path, "dem")
+    case = f.case()
+    d = float(f.geometry["grain_diameter"])
+    V0 = float(np.hypot(*f.velocity()))
     dem = case.get("dem", {})
     dt, every = dem.get("dt", 2e-6), dem.get("field_every", 500)
     span = (dem.get("travel", 300.0) - dem.get("steady_travel", 30.0)) * d / V0
@@ -214,6 +206,9 @@ def snapshots(path):
 
 
 def main(argv):
+    if len(argv) < 3 or argv[1] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        return 0 if argv[1:2] in (["-h"], ["--help"]) else 2
     warnings.filterwarnings("ignore", category=RuntimeWarning)  # empty bins of the T_g profile
     mirror = "--mirror" in argv
     argv = [a for a in argv if a != "--mirror"]
@@ -319,4 +314,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    main(sys.argv)
+    sys.exit(main(sys.argv))

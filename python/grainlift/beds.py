@@ -1,5 +1,6 @@
 """Pooling DEM runs of one scene on several beds (dem.seed), and the two fits the depth study
-makes of them (a power law, a line), for scripts/plot_depth_study.py.
+makes of them (a power law, a line): studies/depth/plot_depth_study.py, studies/lammps,
+studies/preparation.
 
 A run's block standard error (/means drag_stderr, lift_stderr) measures the time-average
 fluctuation on one bed; how a bed was packed moves the mean further (docs/crosscheck.md: seed
@@ -13,24 +14,26 @@ import math
 
 import numpy as np
 
+from grainlift.stats import pooled_mean
+
 SCALARS = ("drag", "lift")
 ARRAYS = ("sn", "sym", "anti", "fp", "fsyy")
 
 
 def pooled_error(values, errors):
     """(error, between-bed error, within-bed error) of the mean of N bed values with block
-    errors `errors`, as the module docstring says; between is nan for one bed."""
-    n = len(values)
-    within = math.sqrt(sum(e * e for e in errors)) / n
-    between = float(np.std(values, ddof=1)) / math.sqrt(n) if n > 1 else float("nan")
-    return max(within, between if between == between else 0.0), between, within
+    errors `errors`, as the module docstring says (grainlift.stats.pooled_mean); between is
+    nan for one bed."""
+    p = pooled_mean(values, errors)
+    return p.error, p.between, p.within
 
 
 def mean_and_between(values):
     """(mean, between-bed standard error std(ddof=1) / sqrt(N)) of N bed values; nan error for
     one bed. The studies that compare beds by their spread alone (lammps_study.py,
     preparation_study.py) use this."""
-    return float(np.mean(values)), pooled_error(values, [0.0] * len(values))[1]
+    p = pooled_mean(values)
+    return p.mean, p.between
 
 
 def pool(members):
@@ -44,14 +47,13 @@ def pool(members):
             r[k + "_err_between"], r[k + "_err_within"] = float("nan"), r[k + "_err"]
         return r
     for k in SCALARS:
-        vals = [m[k] for m in members]
-        err, between, within = pooled_error(vals, [m[k + "_err"] for m in members])
-        r[k] = float(np.mean(vals))
-        r[k + "_err"], r[k + "_err_between"], r[k + "_err_within"] = err, between, within
+        p = pooled_mean([m[k] for m in members], [m[k + "_err"] for m in members])
+        r[k] = p.mean
+        r[k + "_err"], r[k + "_err_between"], r[k + "_err_within"] = p.error, p.between, p.within
     for k in ARRAYS:
         if all(k in m for m in members):
             r[k] = np.mean([m[k] for m in members], axis=0)
-    if all(m.get("sn_err") is not None for m in members):
+    if all(m.get("sn_err") is not None for m in members):  # pooled_mean's rule, per angle
         stack = np.array([m["sn"] for m in members])
         within = np.sqrt(np.sum(np.square([m["sn_err"] for m in members]), axis=0)) / len(members)
         between = np.std(stack, axis=0, ddof=1) / math.sqrt(len(members))
@@ -71,7 +73,8 @@ def pool_series(runs, base, extras, pooled_name):
         return runs
     for (s, name), r in list(runs.items()):
         if s == base:
-            runs[(pooled_name, name)] = pool([r] + [runs[(e, name)] for e in extras if (e, name) in runs])
+            others = [runs[(e, name)] for e in extras if (e, name) in runs]
+            runs[(pooled_name, name)] = pool([r] + others)
     return runs
 
 
@@ -100,4 +103,5 @@ def line_fit(x, y, yerr):
     a, b = cov @ (A.T @ (w * y))
     dof = len(x) - 2
     chi2 = float(np.sum(w * (y - a - b * x) ** 2))
-    return float(a), float(math.sqrt(cov[0, 0])), float(b), float(math.sqrt(cov[1, 1])), (chi2 / dof if dof > 0 else float("nan"))
+    return (float(a), float(math.sqrt(cov[0, 0])), float(b), float(math.sqrt(cov[1, 1])),
+            chi2 / dof if dof > 0 else float("nan"))

@@ -5,30 +5,31 @@ Runs a reduced Kumar case (default: the dense one, Phi 0.8, at V0 0.25 m/s and o
 one thread each) three ways per seed: the 60 d box (the intruder meets its own wake after 60 d of travel), the same box
 with dem.window_width, and a box LONG times as long (no wake comes round in the travel) as
 the reference. Prints a Markdown table: drag and lift over the laps of travel (block means,
-10 blocks each, block errors), the wall time, and the window's diagnostics; then the pooled
-means over the seeds (error: the block errors combined).
+10 blocks each, block errors: grainlift.stats.block_mean), the wall time, and the window's
+diagnostics; then the pooled means over the seeds (grainlift.stats.pooled_mean: the larger of
+the between-seed error and the block errors combined).
 
-    scripts/window_study.py build/bin/grainlift WORK [--case FILE] [--v0 0.25] [--omega 5]
+    studies/comoving_window/window_study.py build/bin/grainlift WORK [--case FILE] [--v0 0.25] [--omega 5]
         [--seeds 1 2] [--travel 150] [--width 10] [--long 3] [--runs short window long]
         [--set KEY=VALUE ...]
 """
 import argparse
-import json
-import math
 import os
 import subprocess
+import sys
 
-import h5py  # python3-h5py (scripts/install-deps)
-import numpy as np
+ROOT = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..")
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from grainlift import io  # noqa: E402
+from grainlift.stats import block_mean as block_rule, pooled_mean  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 D_GRAIN, HALF_BOX = 0.02, 0.6  # the reduced Kumar cases' grain diameter and half box length
 
 
 def block_mean(x, blocks=10):
-    n = len(x) // blocks * blocks
-    b = x[:n].reshape(blocks, -1).mean(axis=1)
-    return float(x.mean()), float(b.std(ddof=1) / math.sqrt(blocks))
+    """(mean, block standard error) of x over `blocks` blocks."""
+    b = block_rule(x, blocks)
+    return b.mean, b.stderr
 
 
 def run(a, name, seed, extra):
@@ -43,11 +44,11 @@ def run(a, name, seed, extra):
         for s in extra + a.sets:
             cmd += ["--set", s]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    with h5py.File(os.path.join(out, "dem.h5"), "r") as f:
-        t = f["forces/time"][:] * a.v0 / D_GRAIN
-        drag, lift = -f["forces/fx"][:], f["forces/fy"][:]
-        diag = {k: float(v) for k, v in f["diagnostics"].attrs.items() if k.startswith("window")}
-    wall = json.load(open(os.path.join(out, "summary.json")))["dem"]["wall_seconds"]
+    f = io.read(out, "dem")
+    t = f["forces/time"] * a.v0 / D_GRAIN
+    drag, lift = -f["forces/fx"], f["forces/fy"]
+    diag = {k: float(v) for k, v in f.diagnostics.items() if k.startswith("window")}
+    wall = io.summary(out, "dem")["wall_seconds"]
     return t, drag, lift, diag, wall
 
 
@@ -88,7 +89,8 @@ def main():
                  f"{diag.get('window_band_contacts', float('nan')):.2f}" if diag else "-")
             print(f"| {kind} | {seed} | " + " | ".join(cells) + f" | {wall:.0f} | {w} |")
     print()
-    print("Pooled over the seeds (mean of the beds; error: block errors combined):")
+    print("Pooled over the seeds (mean of the beds; error: the larger of between-seed and "
+          "block errors combined):")
     print()
     print("| run | " + " | ".join(f"{lo:g}-{hi:g} d drag / lift" for lo, hi in laps) + " |")
     print("| --- | " + " | ".join("---" for _ in laps) + " |")
@@ -96,12 +98,9 @@ def main():
         cells = []
         for lo, hi in laps:
             v = pooled[(kind, lo, hi)]
-            n = len(v)
-            dm = sum(x[0] for x in v) / n
-            de = math.sqrt(sum(x[1] ** 2 for x in v)) / n
-            lm = sum(x[2] for x in v) / n
-            le = math.sqrt(sum(x[3] ** 2 for x in v)) / n
-            cells.append(f"{dm:.3f} +- {de:.3f} / {lm:.3f} +- {le:.3f}")
+            d = pooled_mean([x[0] for x in v], [x[1] for x in v])
+            li = pooled_mean([x[2] for x in v], [x[3] for x in v])
+            cells.append(f"{d.mean:.3f} +- {d.error:.3f} / {li.mean:.3f} +- {li.error:.3f}")
         print(f"| {kind} | " + " | ".join(cells) + " |")
 
 

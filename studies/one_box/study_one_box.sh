@@ -3,13 +3,13 @@
 # the FEM column): the continuum on the DEM's own domain against the particles, case by case,
 # with the continuum's former box (continuum.box_half_size, symmetric about the intruder) beside
 # it so that the part of the old disagreement that was the box can be read off.
-#   scripts/study_one_box.sh [dem|fem|tables|all] [OUT_DIR]   (default all, runs/one_box)
+#   studies/one_box/study_one_box.sh [dem|fem|tables|all] [OUT_DIR]   (default all, runs/one_box)
 # dem: 12 DEM runs, two at a time, one thread each (~15 min on 2 cores): the demo at six spin
 #   ratios, the 16 D x 9.6 D box at Omega 0, 2, 4, the depth sweep's h = 8 D with and without
-#   the gradient, Guillard's gradient case. fem: ~40 solves (~10 min). tables: python3 scripts/one_box_tables.py OUT_DIR.
+#   the gradient, Guillard's gradient case. fem: ~40 solves (~10 min). tables: python3 studies/one_box/one_box_tables.py OUT_DIR.
 # A run whose result exists is skipped (delete its folder to rerun).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 PART=${1:-all}
 O=${2:-runs/one_box}
 G=$(realpath "${GRAINLIFT:-build/bin/grainlift}")
@@ -100,5 +100,5 @@ with h5py.File(sys.argv[1], 'r') as f:
 fi
 
 if [[ $PART == tables || $PART == all ]]; then
-  "$PY" scripts/one_box_tables.py "$G" "$O"
+  "$PY" studies/one_box/one_box_tables.py "$G" "$O"
 fi
