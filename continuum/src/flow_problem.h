@@ -214,6 +214,21 @@ class FlowProblem {
   double assemble_impl(const VectorType& state, MatrixType* matrix, bool newton,
                        VectorType& residual, bool reaction_mode,
                        MatrixType* schur_mass = nullptr) const;
+  /// Work arrays of one cell's assembly (assembly.cc).
+  struct AssemblyScratch;
+  /// The volume terms of the residual (and matrices) on the cell of @p s, into its local ones.
+  void assemble_cell_volume(AssemblyScratch& s, const VectorType& state, bool matrix, bool newton,
+                            bool schur) const;
+  /// The traction and wall-friction terms on the boundary faces of @p cell, into @p s.
+  void assemble_cell_boundary(AssemblyScratch& s,
+                              const dealii::DoFHandler<dim>::active_cell_iterator& cell,
+                              const VectorType& state, bool matrix, bool newton) const;
+  /// The wall-friction terms of the face of @p s (FrictionWall), into its local ones.
+  void add_friction_terms(AssemblyScratch& s, const VectorType& state, bool matrix,
+                          bool newton) const;
+  /// The local residual and matrices of @p s into the global ones (local-to-global).
+  void distribute_cell(const AssemblyScratch& s, MatrixType* matrix, VectorType& residual,
+                       bool reaction_mode, MatrixType* schur_mass) const;
   /// MUMPS on the whole matrix, its linear residual checked (linear_solver.cc).
   void solve_direct(const VectorType& residual, VectorType& update);
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
