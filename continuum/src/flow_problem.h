@@ -229,6 +229,25 @@ class FlowProblem {
   /// The local residual and matrices of @p s into the global ones (local-to-global).
   void distribute_cell(const AssemblyScratch& s, MatrixType* matrix, VectorType& residual,
                        bool reaction_mode, MatrixType* schur_mass) const;
+  /// Vectors and outcome of one nonlinear step (nonlinear_solver.cc).
+  struct NonlinearWork;
+  struct NonlinearStep;
+  /// One Newton (with line search) or Picard step from solution_ at |R| = @p r.
+  NonlinearStep nonlinear_step(NonlinearWork& w, bool newton, bool nonlinear, double r,
+                               double r_ref);
+  /// The inverse |diagonal| of the system matrix's diagonal blocks (the merit's weights).
+  void jacobi_weights(VectorType& weight) const;
+  /// The line-search merit of the residual @p v (weighted or plain norm). Collective.
+  double merit(const VectorType& v, const VectorType& weight, bool scaled) const;
+  /// Backtracking along the update from solution_; true when a step was accepted.
+  bool line_search(NonlinearWork& w, double m0, bool scaled, double r, bool nonlinear,
+                   NonlinearStep& step);
+  /// The progress lines of solve_nonlinear(): its start, then one per step.
+  void log_nonlinear_start(double r0) const;
+  void log_nonlinear_step(const NonlinearStep& step, int it, double relative,
+                          bool iterative) const;
+  /// The message of a solve that did not converge, with its residual history.
+  void report_nonconvergence(double relative);
   /// MUMPS on the whole matrix, its linear residual checked (linear_solver.cc).
   void solve_direct(const VectorType& residual, VectorType& update);
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
