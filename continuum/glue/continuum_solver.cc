@@ -46,7 +46,8 @@ template <class T>
 T choice(const std::string& name, std::initializer_list<std::pair<const char*, T>> table) {
   for (const auto& [key, value] : table)
     if (name == key) return value;
-  throw std::logic_error("continuum: choice \"" + name + "\" passed the loader but has no engine value");
+  throw std::logic_error("continuum: choice \"" + name +
+                         "\" passed the loader but has no engine value");
 }
 }  // namespace
 

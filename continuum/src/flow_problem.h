@@ -172,8 +172,9 @@ class FlowProblem {
                                        std::vector<char>& found) const;
   /// L2 velocity, H1-seminorm velocity and L2 pressure errors against exact fields
   /// (pressure compared after removing the mean difference when @p remove_mean_pressure).
-  std::array<double, 3> errors(const VectorField& u, const std::function<dealii::Tensor<2, dim>(const Point2&)>& grad_u,
-                               const ScalarField& p, bool remove_mean_pressure) const;
+  std::array<double, 3> errors(
+      const VectorField& u, const std::function<dealii::Tensor<2, dim>(const Point2&)>& grad_u,
+      const ScalarField& p, bool remove_mean_pressure) const;
 
   // ---- access
   const dealii::DoFHandler<dim>& dof_handler() const { return dof_handler_; }
@@ -186,7 +187,9 @@ class FlowProblem {
   VectorType ghosted(const VectorType& v) const;
   const MatrixType& system_matrix() const { return system_matrix_; }
   const dealii::AffineConstraints<double>& zero_constraints() const { return zero_constraints_; }
-  const dealii::AffineConstraints<double>& nonzero_constraints() const { return nonzero_constraints_; }
+  const dealii::AffineConstraints<double>& nonzero_constraints() const {
+    return nonzero_constraints_;
+  }
   const NonlinearReport& report() const { return report_; }
   const dealii::Mapping<dim>& mapping() const { return mapping_; }
   MPI_Comm communicator() const { return comm_; }
@@ -199,9 +202,10 @@ class FlowProblem {
   /// on a vertex shared by two faces (possibly of two ranks). Returns the number of visits on
   /// this rank (the callers sum over the ranks); throws on every rank when there is none on
   /// any (@p who names the caller in the message). Collective.
-  int visit_boundary_at_angle(dealii::types::boundary_id id, const Point2& centre, double angle,
-                              dealii::UpdateFlags flags, const char* who,
-                              const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
+  int visit_boundary_at_angle(
+      dealii::types::boundary_id id, const Point2& centre, double angle,
+      dealii::UpdateFlags flags, const char* who,
+      const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
 
   void make_constraints(dealii::AffineConstraints<double>& c, bool homogeneous) const;
   /// The line of BoundarySpec::mean_pressure in @p c (after the other constraints).
@@ -254,7 +258,8 @@ class FlowProblem {
   int solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance);
   /// Locally owned entries of the reaction -R (unconstrained volume residual) on the velocity
   /// dofs of boundary @p id, gathered on every rank.
-  std::map<dealii::types::global_dof_index, double> boundary_reaction(dealii::types::boundary_id id) const;
+  std::map<dealii::types::global_dof_index, double> boundary_reaction(
+      dealii::types::boundary_id id) const;
   PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u) const;
   void log(const std::string& s) const { if (setup_.log) setup_.log(s); }
 
