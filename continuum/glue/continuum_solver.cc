@@ -46,7 +46,8 @@ template <class T>
 T choice(const std::string& name, std::initializer_list<std::pair<const char*, T>> table) {
   for (const auto& [key, value] : table)
     if (name == key) return value;
-  throw std::logic_error("continuum: choice \"" + name + "\" passed the loader but has no engine value");
+  throw std::logic_error("continuum: choice \"" + name +
+                         "\" passed the loader but has no engine value");
 }
 }  // namespace
 
@@ -233,69 +234,88 @@ struct CoarserLevel {
   double drag = 0, lift = 0, torque = 0;
 };
 
-RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOutput& out,
-                    const std::optional<CoarserLevel>& coarser) {
-  RunResult r;
-  const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
-  ForceSeries f;
-  f.time = {0.0};
-  f.fx = {out.fx};
-  f.fy = {out.fy};
-  f.torque = {out.torque};
-  r.forces = f;
-  const DragLift dl = project_drag_lift(out.fx, out.fy, vx, vy);
-  MeanForces m;
-  m.drag = dl.drag;
-  m.lift = dl.lift;
-  m.torque = out.torque;
-  m.samples = 1;
-  m.blocks = 0;
-  r.means = m;
-  if (!out.sigma_n.empty()) {
-    // /surface: the kernel average of Guillard eq. (A4) that the DEM writes, from the fine
-    // samples; the pointwise trace at theta_m beside it (surface_trace_angles gives the order)
-    const int M = c.output.angles;
-    const std::vector<double> fine_theta = surface_angle_grid(kSurfaceOversample * M);
-    const auto fine = [&](const std::vector<double>& v) {
-      return std::vector<double>(v.begin() + M, v.end());
-    };
-    SurfaceDistribution s;
-    s.theta = surface_angle_grid(M);
-    s.sigma_n = smooth_onto_grid(fine_theta, fine(out.sigma_n), M, c.output.kernel_width_deg);
-    s.sigma_t = smooth_onto_grid(fine_theta, fine(out.sigma_t), M, c.output.kernel_width_deg);
-    s.kernel_width_deg = c.output.kernel_width_deg;
-    s.sigma_n_pointwise = std::vector<double>(out.sigma_n.begin(), out.sigma_n.begin() + M);
-    s.sigma_t_pointwise = std::vector<double>(out.sigma_t.begin(), out.sigma_t.begin() + M);
-    r.surface = std::move(s);
+/// /surface: the kernel average of Guillard eq. (A4) that the DEM writes, from the fine
+/// samples; the pointwise trace at theta_m beside it (surface_trace_angles gives the order).
+SurfaceDistribution surface_result(const Case& c, const ContinuumOutput& out) {
+  const int M = c.output.angles;
+  const std::vector<double> fine_theta = surface_angle_grid(kSurfaceOversample * M);
+  const auto fine = [&](const std::vector<double>& v) {
+    return std::vector<double>(v.begin() + M, v.end());
+  };
+  SurfaceDistribution s;
+  s.theta = surface_angle_grid(M);
+  s.sigma_n = smooth_onto_grid(fine_theta, fine(out.sigma_n), M, c.output.kernel_width_deg);
+  s.sigma_t = smooth_onto_grid(fine_theta, fine(out.sigma_t), M, c.output.kernel_width_deg);
+  s.kernel_width_deg = c.output.kernel_width_deg;
+  s.sigma_n_pointwise = std::vector<double>(out.sigma_n.begin(), out.sigma_n.begin() + M);
+  s.sigma_t_pointwise = std::vector<double>(out.sigma_t.begin(), out.sigma_t.begin() + M);
+  return s;
+}
+
+/// /fields: velocity, pressure and stress at the centres of the case's field grid.
+FieldGrid field_result(const Case& c, const ContinuumOutput& out) {
+  FieldGrid g;
+  const FieldGridLayout layout = field_grid_layout(c);
+  g.x = layout.x_centres();
+  g.y = layout.y_centres();
+  g.velocity_x = out.vx;
+  g.velocity_y = out.vy;
+  if (!out.pressure.empty()) g.pressure = out.pressure;
+  if (!out.sxx.empty()) {
+    g.stress_xx = out.sxx;
+    g.stress_xy = out.sxy;
+    g.stress_yy = out.syy;
   }
-  if (cfg.fields.enabled && !out.vx.empty()) {
-    FieldGrid g;
-    const FieldGridLayout layout = field_grid_layout(c);
-    g.x = layout.x_centres();
-    g.y = layout.y_centres();
-    g.velocity_x = out.vx;
-    g.velocity_y = out.vy;
-    if (!out.pressure.empty()) g.pressure = out.pressure;
-    if (!out.sxx.empty()) {
-      g.stress_xx = out.sxx;
-      g.stress_xy = out.sxy;
-      g.stress_yy = out.syy;
-    }
-    r.fields = std::move(g);
-  }
-  r.geometry = case_geometry(c);
-  Geometry& q = r.geometry;
+  return g;
+}
+
+/// The case's geometry with the FE box as the domain (lab frame) and P0 as pressure scale.
+Geometry result_geometry(const Case& c, const ContinuumConfig& cfg) {
+  Geometry q = case_geometry(c);
   const std::array<double, 4> e = box_edges(cfg);
   q.domain_xmin = c.intruder.position[0] + e[0];
   q.domain_xmax = c.intruder.position[0] + e[1];
   q.domain_ymin = c.intruder.position[1] + e[2];
   q.domain_ymax = c.intruder.position[1] + e[3];
   q.pressure_scale = cfg.ambient_pressure;
-  r.meta.notes = fmt::format("{} cells, {} unknowns, {} nonlinear steps, final relative residual "
-                             "{:.3g}, ill-posed share {:.3g} (all in /diagnostics)",
-                             out.cells, out.dofs, out.nonlinear_iterations, out.final_residual,
-                             out.ill_posed_share);
-  Diagnostics& d = r.diagnostics;
+  return q;
+}
+
+/// The mesh-error estimate of the forces @p m: their change from the next coarser level (an
+/// upper bound of the fine level's error when the forces converge with order >= 1 at a rate
+/// better than 1/2 per level, as the refinement studies of the docs show).
+void add_mesh_error(const MeanForces& m, const CoarserLevel& coarser, Diagnostics& d) {
+  d.counts["coarser_refinement"] = coarser.refinement;
+  d.values["drag_coarser"] = coarser.drag;
+  d.values["lift_coarser"] = coarser.lift;
+  d.values["torque_coarser"] = coarser.torque;
+  d.values["drag_mesh_error"] = std::abs(m.drag - coarser.drag);
+  d.values["lift_mesh_error"] = std::abs(m.lift - coarser.lift);
+  d.values["torque_mesh_error"] = std::abs(m.torque - coarser.torque);
+}
+
+/// The nested levels (coarsest first) as series: mesh, forces, work.
+void add_level_series(const Case& c, const ContinuumOutput& out, Diagnostics& d) {
+  auto& lv = d.series;
+  for (const LevelResult& l : out.levels) {
+    const DragLift dl =
+        project_drag_lift(l.fx, l.fy, c.intruder.velocity[0], c.intruder.velocity[1]);
+    lv["level_refinement"].push_back(l.refinement);
+    lv["level_dofs"].push_back(l.dofs);
+    lv["level_drag"].push_back(dl.drag);
+    lv["level_lift"].push_back(dl.lift);
+    lv["level_torque"].push_back(l.torque);
+    lv["level_nonlinear_steps"].push_back(l.nonlinear_steps);
+    lv["level_seconds"].push_back(l.seconds);
+  }
+}
+
+/// /diagnostics: the solve's counts and residuals, the surface integral, the choices made,
+/// the mesh-error estimate against @p coarser, the nested levels and the residual history.
+Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
+                               const ContinuumOutput& out, const MeanForces& m,
+                               const std::optional<CoarserLevel>& coarser) {
+  Diagnostics d;
   d.counts = {{"converged", out.converged ? 1 : 0},
               {"cells", out.cells},
               {"dofs", out.dofs},
@@ -322,34 +342,41 @@ RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOu
              {"pressure_source", pressure_source(c)},
              {"rheology_source", c.continuum.law_source}};
   if (!c.continuum.rheology_file.empty()) d.texts["rheology_file"] = c.continuum.rheology_file;
-  if (coarser) {
-    // the mesh-error estimate of the forces: their change from the next coarser level (an
-    // upper bound of the fine level's error when the forces converge with order >= 1 at a
-    // rate better than 1/2 per level, as the refinement studies of the docs show)
-    d.counts["coarser_refinement"] = coarser->refinement;
-    d.values["drag_coarser"] = coarser->drag;
-    d.values["lift_coarser"] = coarser->lift;
-    d.values["torque_coarser"] = coarser->torque;
-    d.values["drag_mesh_error"] = std::abs(m.drag - coarser->drag);
-    d.values["lift_mesh_error"] = std::abs(m.lift - coarser->lift);
-    d.values["torque_mesh_error"] = std::abs(m.torque - coarser->torque);
-  }
-  if (!out.levels.empty()) {
-    // the nested levels (coarsest first): mesh, forces, work
-    auto& lv = d.series;
-    for (const LevelResult& l : out.levels) {
-      const DragLift dl = project_drag_lift(l.fx, l.fy, c.intruder.velocity[0], c.intruder.velocity[1]);
-      lv["level_refinement"].push_back(l.refinement);
-      lv["level_dofs"].push_back(l.dofs);
-      lv["level_drag"].push_back(dl.drag);
-      lv["level_lift"].push_back(dl.lift);
-      lv["level_torque"].push_back(l.torque);
-      lv["level_nonlinear_steps"].push_back(l.nonlinear_steps);
-      lv["level_seconds"].push_back(l.seconds);
-    }
-  }
+  if (coarser) add_mesh_error(m, *coarser, d);
+  if (!out.levels.empty()) add_level_series(c, out, d);
   d.series["residual_history"] = out.residual_history;
   d.series["residual_stage"].assign(out.residual_stage.begin(), out.residual_stage.end());
+  return d;
+}
+
+/// The run's result in the shared schema: forces, their drag and lift, /surface, /fields,
+/// geometry, notes and /diagnostics.
+RunResult to_result(const Case& c, const ContinuumConfig& cfg, const ContinuumOutput& out,
+                    const std::optional<CoarserLevel>& coarser) {
+  RunResult r;
+  const double vx = c.intruder.velocity[0], vy = c.intruder.velocity[1];
+  ForceSeries f;
+  f.time = {0.0};
+  f.fx = {out.fx};
+  f.fy = {out.fy};
+  f.torque = {out.torque};
+  r.forces = f;
+  const DragLift dl = project_drag_lift(out.fx, out.fy, vx, vy);
+  MeanForces m;
+  m.drag = dl.drag;
+  m.lift = dl.lift;
+  m.torque = out.torque;
+  m.samples = 1;
+  m.blocks = 0;
+  r.means = m;
+  if (!out.sigma_n.empty()) r.surface = surface_result(c, out);
+  if (cfg.fields.enabled && !out.vx.empty()) r.fields = field_result(c, out);
+  r.geometry = result_geometry(c, cfg);
+  r.meta.notes = fmt::format("{} cells, {} unknowns, {} nonlinear steps, final relative residual "
+                             "{:.3g}, ill-posed share {:.3g} (all in /diagnostics)",
+                             out.cells, out.dofs, out.nonlinear_iterations, out.final_residual,
+                             out.ill_posed_share);
+  r.diagnostics = result_diagnostics(c, cfg, out, m, coarser);
   return r;
 }
 

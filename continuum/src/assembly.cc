@@ -4,7 +4,7 @@
 //   R_v = int 2 eta D(u):D(v) - p div v + rho ((grad u) u).v - f.v  - int_{Gamma_N} t.v
 //         + int_{Gamma_wall} mu_w p+ g(s) (t_w.v),        g(s) = s / sqrt(s^2 + eps^2)
 //   R_q = - int q div u
-// Newton's Jacobian differentiates eta(|D|^2, p) in both arguments (see assemble_impl).
+// Newton's Jacobian differentiates eta(|D|^2, p) in both arguments (see assemble_cell_volume).
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
@@ -17,6 +17,40 @@
 namespace grainlift::continuum::internal {
 
 using namespace dealii;
+
+/// Work arrays of one cell's assembly: the FE values on the cell and its faces, the local
+/// residual and matrices, the state and the shape functions at the quadrature points.
+struct FlowProblem::AssemblyScratch {
+  AssemblyScratch(const Mapping<dim>& mapping, const FiniteElement<dim>& fe, bool schur)
+      : quad(3), fquad(3),
+        fev(mapping, fe, quad,
+            update_values | update_gradients | update_quadrature_points | update_JxW_values),
+        ffv(mapping, fe, fquad,
+            update_values | update_quadrature_points | update_normal_vectors |
+                update_JxW_values),
+        dpc(fe.n_dofs_per_cell()), nq(quad.size()), nfq(fquad.size()),
+        cmass(schur ? dpc : 0, schur ? dpc : 0), cm(dpc, dpc), cr(dpc), idx(dpc), qr(nq),
+        grad(nq), uval(nq), fu(nfq), fp(nfq), phi_sym(dpc), phi_grad(dpc), phi_u(dpc),
+        phi_div(dpc), phi_p(dpc) {}
+
+  const QGauss<dim> quad;
+  const QGauss<dim - 1> fquad;
+  FEValues<dim> fev;
+  FEFaceValues<dim> ffv;
+  const unsigned int dpc, nq, nfq;
+  FullMatrix<double> cmass;  ///< (1/eta)-weighted pressure mass matrix (schur_mass only)
+  FullMatrix<double> cm;
+  Vector<double> cr;
+  std::vector<types::global_dof_index> idx;
+  QuadratureRheology qr;  ///< D(u), p and the viscosity model's outputs
+  std::vector<Tensor<2, dim>> grad;  ///< grad u (inertia only)
+  std::vector<Vec2> uval, fu;        ///< u in the cell (inertia only), u on a face
+  std::vector<double> fp;            ///< p on a face
+  std::vector<SymmetricTensor<2, dim>> phi_sym;
+  std::vector<Tensor<2, dim>> phi_grad;
+  std::vector<Vec2> phi_u;
+  std::vector<double> phi_div, phi_p;
+};
 
 double FlowProblem::assemble_system(const VectorType& state, bool matrix, bool newton,
                                     VectorType& residual) {
@@ -32,141 +66,160 @@ double FlowProblem::assemble_impl(const VectorType& state, MatrixType* matrix, b
   residual.reinit(owned_, comm_);
   if (matrix) *matrix = 0;
   if (schur_mass) *schur_mass = 0;
-  FullMatrix<double> cmass(schur_mass ? fe_.n_dofs_per_cell() : 0,
-                           schur_mass ? fe_.n_dofs_per_cell() : 0);
-  const QGauss<dim> quad(3);
-  const QGauss<dim - 1> fquad(3);
-  FEValues<dim> fev(mapping_, fe_, quad,
-                    update_values | update_gradients | update_quadrature_points | update_JxW_values);
-  FEFaceValues<dim> ffv(mapping_, fe_, fquad,
-                        update_values | update_quadrature_points | update_normal_vectors |
-                            update_JxW_values);
-  const unsigned int dpc = fe_.n_dofs_per_cell(), nq = quad.size(), nfq = fquad.size();
-  FullMatrix<double> cm(dpc, dpc);
-  Vector<double> cr(dpc);
-  std::vector<types::global_dof_index> idx(dpc);
-  QuadratureRheology qr(nq);
-  const std::vector<SymmetricTensor<2, dim>>& sym = qr.sym;
-  const std::vector<double>& pval = qr.pressure;
-  const RheologyOutputs& out = qr.out;
-  std::vector<Tensor<2, dim>> grad(nq);
-  std::vector<Vec2> uval(nq), fu(nfq);
-  std::vector<double> fp(nfq);
-  std::vector<SymmetricTensor<2, dim>> phi_sym(dpc);
-  std::vector<Tensor<2, dim>> phi_grad(dpc);
-  std::vector<Vec2> phi_u(dpc);
-  std::vector<double> phi_div(dpc), phi_p(dpc);
-  const double rho = setup_.inertia_density;
-  const bool inertia = rho > 0;
-
+  AssemblyScratch s(mapping_, fe_, schur_mass != nullptr);
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
-    fev.reinit(cell);
-    cm = 0;
-    cr = 0;
-    if (schur_mass) cmass = 0;
-    qr.evaluate(fev, state, *setup_.viscosity);
-    if (inertia) {
-      fev[kVelocity].get_function_gradients(state, grad);
-      fev[kVelocity].get_function_values(state, uval);
-    }
-
-    for (unsigned int q = 0; q < nq; ++q) {
-      const double JxW = fev.JxW(q);
-      const double eta = out.viscosity[q];
-      const double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
-      const double eta_p = newton ? out.deta_dpressure[q] : 0.0;
-      const Vec2 f = setup_.body_force ? setup_.body_force(fev.quadrature_point(q)) : Vec2();
-      const SymmetricTensor<2, dim>& D = sym[q];
-      const double div_u = trace(D);
-      const Vec2 conv = inertia ? Vec2(grad[q] * uval[q]) : Vec2();
-      for (unsigned int k = 0; k < dpc; ++k) {
-        phi_sym[k] = fev[kVelocity].symmetric_gradient(k, q);
-        phi_div[k] = fev[kVelocity].divergence(k, q);
-        phi_u[k] = fev[kVelocity].value(k, q);
-        phi_p[k] = fev[kPressure].value(k, q);
-        if (inertia && matrix) phi_grad[k] = fev[kVelocity].gradient(k, q);
-      }
-      for (unsigned int i = 0; i < dpc; ++i) {
-        const double D_Di = D * phi_sym[i];
-        cr(i) += (2 * eta * D_Di - pval[q] * phi_div[i] - phi_p[i] * div_u +
-                  rho * (conv * phi_u[i]) - f * phi_u[i]) * JxW;
-        if (!matrix) continue;
-        for (unsigned int j = 0; j < dpc; ++j) {
-          // d/dx_j of 2 eta D:D_i = 2 eta D_j:D_i + 2 (eta_s D:D_j + eta_p phi_p_j) D:D_i
-          double a = 2 * eta * (phi_sym[j] * phi_sym[i]) - phi_p[j] * phi_div[i] -
-                     phi_p[i] * phi_div[j];
-          a += 2 * (eta_s * (D * phi_sym[j]) + eta_p * phi_p[j]) * D_Di;
-          if (inertia) {
-            a += rho * ((phi_grad[j] * uval[q]) * phi_u[i]);               // Oseen part
-            if (newton) a += rho * ((grad[q] * phi_u[j]) * phi_u[i]);      // Newton part
-          }
-          cm(i, j) += a * JxW;
-        }
-        if (schur_mass)  // (1/eta) p_i p_j: the Schur complement B A^{-1} B^T is ~ M_p / eta
-          for (unsigned int j = 0; j < dpc; ++j) cmass(i, j) += phi_p[i] * phi_p[j] / eta * JxW;
-      }
-    }
-
-    if (!reaction_mode)
-      for (const auto& face : cell->face_iterators()) {
-        if (!face->at_boundary()) continue;
-        const auto id = face->boundary_id();
-        const auto tr = setup_.bc.traction.find(id);
-        const bool is_friction = setup_.bc.friction && setup_.bc.friction->id == id;
-        if (tr == setup_.bc.traction.end() && !is_friction) continue;
-        ffv.reinit(cell, face);
-        if (tr != setup_.bc.traction.end()) {
-          for (unsigned int q = 0; q < nfq; ++q) {
-            const Vec2 t = tr->second(ffv.quadrature_point(q), ffv.normal_vector(q));
-            for (unsigned int i = 0; i < dpc; ++i)
-              cr(i) -= t * ffv[kVelocity].value(i, q) * ffv.JxW(q);
-          }
-        }
-        if (is_friction) {
-          const FrictionWall& w = *setup_.bc.friction;
-          ffv[kVelocity].get_function_values(state, fu);
-          ffv[kPressure].get_function_values(state, fp);
-          const double eps = w.slip_scale;
-          for (unsigned int q = 0; q < nfq; ++q) {
-            const Vec2 n = ffv.normal_vector(q);
-            const Vec2 tw({-n[1], n[0]});
-            const Vec2 uw = w.wall_velocity ? w.wall_velocity(ffv.quadrature_point(q)) : Vec2();
-            const double s = (fu[q] - uw) * tw;
-            const double pp = std::max(fp[q], 0.0);
-            const double r = std::sqrt(s * s + eps * eps);
-            const double g = s / r, dg = eps * eps / (r * r * r);
-            for (unsigned int i = 0; i < dpc; ++i) {
-              const double ti = tw * ffv[kVelocity].value(i, q);
-              cr(i) += w.mu_w * pp * g * ti * ffv.JxW(q);
-              if (!matrix) continue;
-              for (unsigned int j = 0; j < dpc; ++j) {
-                const double tj = tw * ffv[kVelocity].value(j, q);
-                double a;
-                if (newton)
-                  a = pp * dg * tj + (fp[q] > 0 ? g * ffv[kPressure].value(j, q) : 0.0);
-                else
-                  a = pp / r * tj;  // Picard: secant slip coefficient
-                cm(i, j) += w.mu_w * a * ti * ffv.JxW(q);
-              }
-            }
-          }
-        }
-      }
-
-    cell->get_dof_indices(idx);
-    if (reaction_mode) {
-      residual.add(idx, cr);  // entries of other ranks travel at compress()
-    } else if (matrix) {
-      zero_constraints_.distribute_local_to_global(cm, cr, idx, *matrix, residual);
-      if (schur_mass) zero_constraints_.distribute_local_to_global(cmass, idx, *schur_mass);
-    } else {
-      zero_constraints_.distribute_local_to_global(cr, idx, residual);
-    }
+    s.fev.reinit(cell);
+    s.cm = 0;
+    s.cr = 0;
+    if (schur_mass) s.cmass = 0;
+    assemble_cell_volume(s, state, matrix != nullptr, newton, schur_mass != nullptr);
+    if (!reaction_mode) assemble_cell_boundary(s, cell, state, matrix != nullptr, newton);
+    cell->get_dof_indices(s.idx);
+    distribute_cell(s, matrix, residual, reaction_mode, schur_mass);
   }
   if (matrix) matrix->compress(VectorOperation::add);
   if (schur_mass) schur_mass->compress(VectorOperation::add);
   residual.compress(VectorOperation::add);
   return residual.l2_norm();
+}
+
+/// The volume integrals of R_v and R_q (momentum and continuity summed per test function, in
+/// one expression) and their Jacobian or Picard matrix, on the cell of s.fev.
+void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& state, bool matrix,
+                                       bool newton, bool schur) const {
+  const unsigned int dpc = s.dpc, nq = s.nq;
+  const FEValues<dim>& fev = s.fev;
+  const std::vector<SymmetricTensor<2, dim>>& sym = s.qr.sym;
+  const std::vector<double>& pval = s.qr.pressure;
+  const RheologyOutputs& out = s.qr.out;
+  const std::vector<Tensor<2, dim>>& grad = s.grad;
+  const std::vector<Vec2>& uval = s.uval;
+  std::vector<SymmetricTensor<2, dim>>& phi_sym = s.phi_sym;
+  std::vector<Tensor<2, dim>>& phi_grad = s.phi_grad;
+  std::vector<Vec2>& phi_u = s.phi_u;
+  std::vector<double>& phi_div = s.phi_div;
+  std::vector<double>& phi_p = s.phi_p;
+  const double rho = setup_.inertia_density;
+  const bool inertia = rho > 0;
+  s.qr.evaluate(fev, state, *setup_.viscosity);
+  if (inertia) {
+    fev[kVelocity].get_function_gradients(state, s.grad);
+    fev[kVelocity].get_function_values(state, s.uval);
+  }
+
+  for (unsigned int q = 0; q < nq; ++q) {
+    const double JxW = fev.JxW(q);
+    const double eta = out.viscosity[q];
+    const double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
+    const double eta_p = newton ? out.deta_dpressure[q] : 0.0;
+    const Vec2 f = setup_.body_force ? setup_.body_force(fev.quadrature_point(q)) : Vec2();
+    const SymmetricTensor<2, dim>& D = sym[q];
+    const double div_u = trace(D);
+    const Vec2 conv = inertia ? Vec2(grad[q] * uval[q]) : Vec2();
+    for (unsigned int k = 0; k < dpc; ++k) {
+      phi_sym[k] = fev[kVelocity].symmetric_gradient(k, q);
+      phi_div[k] = fev[kVelocity].divergence(k, q);
+      phi_u[k] = fev[kVelocity].value(k, q);
+      phi_p[k] = fev[kPressure].value(k, q);
+      if (inertia && matrix) phi_grad[k] = fev[kVelocity].gradient(k, q);
+    }
+    for (unsigned int i = 0; i < dpc; ++i) {
+      const double D_Di = D * phi_sym[i];
+      s.cr(i) += (2 * eta * D_Di - pval[q] * phi_div[i] - phi_p[i] * div_u +
+                  rho * (conv * phi_u[i]) - f * phi_u[i]) * JxW;
+      if (!matrix) continue;
+      for (unsigned int j = 0; j < dpc; ++j) {
+        // d/dx_j of 2 eta D:D_i = 2 eta D_j:D_i + 2 (eta_s D:D_j + eta_p phi_p_j) D:D_i
+        double a = 2 * eta * (phi_sym[j] * phi_sym[i]) - phi_p[j] * phi_div[i] -
+                   phi_p[i] * phi_div[j];
+        a += 2 * (eta_s * (D * phi_sym[j]) + eta_p * phi_p[j]) * D_Di;
+        if (inertia) {
+          a += rho * ((phi_grad[j] * uval[q]) * phi_u[i]);               // Oseen part
+          if (newton) a += rho * ((grad[q] * phi_u[j]) * phi_u[i]);      // Newton part
+        }
+        s.cm(i, j) += a * JxW;
+      }
+      if (schur)  // (1/eta) p_i p_j: the Schur complement B A^{-1} B^T is ~ M_p / eta
+        for (unsigned int j = 0; j < dpc; ++j) s.cmass(i, j) += phi_p[i] * phi_p[j] / eta * JxW;
+    }
+  }
+}
+
+/// The boundary integrals of R_v on the faces of @p cell: -int t.v on the traction
+/// boundaries, then the wall friction (add_friction_terms).
+void FlowProblem::assemble_cell_boundary(AssemblyScratch& s,
+                                         const DoFHandler<dim>::active_cell_iterator& cell,
+                                         const VectorType& state, bool matrix,
+                                         bool newton) const {
+  FEFaceValues<dim>& ffv = s.ffv;
+  for (const auto& face : cell->face_iterators()) {
+    if (!face->at_boundary()) continue;
+    const auto id = face->boundary_id();
+    const auto tr = setup_.bc.traction.find(id);
+    const bool is_friction = setup_.bc.friction && setup_.bc.friction->id == id;
+    if (tr == setup_.bc.traction.end() && !is_friction) continue;
+    ffv.reinit(cell, face);
+    if (tr != setup_.bc.traction.end()) {
+      for (unsigned int q = 0; q < s.nfq; ++q) {
+        const Vec2 t = tr->second(ffv.quadrature_point(q), ffv.normal_vector(q));
+        for (unsigned int i = 0; i < s.dpc; ++i)
+          s.cr(i) -= t * ffv[kVelocity].value(i, q) * ffv.JxW(q);
+      }
+    }
+    if (is_friction) add_friction_terms(s, state, matrix, newton);
+  }
+}
+
+/// The regularised Coulomb friction int mu_w p+ g(s) (t_w.v) on the face of sc.ffv and its
+/// Jacobian (Newton) or secant slip coefficient (Picard).
+void FlowProblem::add_friction_terms(AssemblyScratch& sc, const VectorType& state, bool matrix,
+                                     bool newton) const {
+  const FEFaceValues<dim>& ffv = sc.ffv;
+  const std::vector<Vec2>& fu = sc.fu;
+  const std::vector<double>& fp = sc.fp;
+  const unsigned int dpc = sc.dpc;
+  const FrictionWall& w = *setup_.bc.friction;
+  ffv[kVelocity].get_function_values(state, sc.fu);
+  ffv[kPressure].get_function_values(state, sc.fp);
+  const double eps = w.slip_scale;
+  for (unsigned int q = 0; q < sc.nfq; ++q) {
+    const Vec2 n = ffv.normal_vector(q);
+    const Vec2 tw({-n[1], n[0]});
+    const Vec2 uw = w.wall_velocity ? w.wall_velocity(ffv.quadrature_point(q)) : Vec2();
+    const double s = (fu[q] - uw) * tw;
+    const double pp = std::max(fp[q], 0.0);
+    const double r = std::sqrt(s * s + eps * eps);
+    const double g = s / r, dg = eps * eps / (r * r * r);
+    for (unsigned int i = 0; i < dpc; ++i) {
+      const double ti = tw * ffv[kVelocity].value(i, q);
+      sc.cr(i) += w.mu_w * pp * g * ti * ffv.JxW(q);
+      if (!matrix) continue;
+      for (unsigned int j = 0; j < dpc; ++j) {
+        const double tj = tw * ffv[kVelocity].value(j, q);
+        double a;
+        if (newton)
+          a = pp * dg * tj + (fp[q] > 0 ? g * ffv[kPressure].value(j, q) : 0.0);
+        else
+          a = pp / r * tj;  // Picard: secant slip coefficient
+        sc.cm(i, j) += w.mu_w * a * ti * ffv.JxW(q);
+      }
+    }
+  }
+}
+
+/// The cell's local residual and matrices into the global ones (s.idx set): with the zero
+/// constraints, or, in reaction mode, the residual alone and unconstrained.
+void FlowProblem::distribute_cell(const AssemblyScratch& s, MatrixType* matrix,
+                                  VectorType& residual, bool reaction_mode,
+                                  MatrixType* schur_mass) const {
+  if (reaction_mode) {
+    residual.add(s.idx, s.cr);  // entries of other ranks travel at compress()
+  } else if (matrix) {
+    zero_constraints_.distribute_local_to_global(s.cm, s.cr, s.idx, *matrix, residual);
+    if (schur_mass) zero_constraints_.distribute_local_to_global(s.cmass, s.idx, *schur_mass);
+  } else {
+    zero_constraints_.distribute_local_to_global(s.cr, s.idx, residual);
+  }
 }
 }  // namespace grainlift::continuum::internal

@@ -172,8 +172,9 @@ class FlowProblem {
                                        std::vector<char>& found) const;
   /// L2 velocity, H1-seminorm velocity and L2 pressure errors against exact fields
   /// (pressure compared after removing the mean difference when @p remove_mean_pressure).
-  std::array<double, 3> errors(const VectorField& u, const std::function<dealii::Tensor<2, dim>(const Point2&)>& grad_u,
-                               const ScalarField& p, bool remove_mean_pressure) const;
+  std::array<double, 3> errors(
+      const VectorField& u, const std::function<dealii::Tensor<2, dim>(const Point2&)>& grad_u,
+      const ScalarField& p, bool remove_mean_pressure) const;
 
   // ---- access
   const dealii::DoFHandler<dim>& dof_handler() const { return dof_handler_; }
@@ -186,7 +187,9 @@ class FlowProblem {
   VectorType ghosted(const VectorType& v) const;
   const MatrixType& system_matrix() const { return system_matrix_; }
   const dealii::AffineConstraints<double>& zero_constraints() const { return zero_constraints_; }
-  const dealii::AffineConstraints<double>& nonzero_constraints() const { return nonzero_constraints_; }
+  const dealii::AffineConstraints<double>& nonzero_constraints() const {
+    return nonzero_constraints_;
+  }
   const NonlinearReport& report() const { return report_; }
   const dealii::Mapping<dim>& mapping() const { return mapping_; }
   MPI_Comm communicator() const { return comm_; }
@@ -199,9 +202,10 @@ class FlowProblem {
   /// on a vertex shared by two faces (possibly of two ranks). Returns the number of visits on
   /// this rank (the callers sum over the ranks); throws on every rank when there is none on
   /// any (@p who names the caller in the message). Collective.
-  int visit_boundary_at_angle(dealii::types::boundary_id id, const Point2& centre, double angle,
-                              dealii::UpdateFlags flags, const char* who,
-                              const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
+  int visit_boundary_at_angle(
+      dealii::types::boundary_id id, const Point2& centre, double angle,
+      dealii::UpdateFlags flags, const char* who,
+      const std::function<void(const dealii::FEFaceValues<dim>&)>& visit) const;
 
   void make_constraints(dealii::AffineConstraints<double>& c, bool homogeneous) const;
   /// The line of BoundarySpec::mean_pressure in @p c (after the other constraints).
@@ -214,13 +218,48 @@ class FlowProblem {
   double assemble_impl(const VectorType& state, MatrixType* matrix, bool newton,
                        VectorType& residual, bool reaction_mode,
                        MatrixType* schur_mass = nullptr) const;
+  /// Work arrays of one cell's assembly (assembly.cc).
+  struct AssemblyScratch;
+  /// The volume terms of the residual (and matrices) on the cell of @p s, into its local ones.
+  void assemble_cell_volume(AssemblyScratch& s, const VectorType& state, bool matrix, bool newton,
+                            bool schur) const;
+  /// The traction and wall-friction terms on the boundary faces of @p cell, into @p s.
+  void assemble_cell_boundary(AssemblyScratch& s,
+                              const dealii::DoFHandler<dim>::active_cell_iterator& cell,
+                              const VectorType& state, bool matrix, bool newton) const;
+  /// The wall-friction terms of the face of @p s (FrictionWall), into its local ones.
+  void add_friction_terms(AssemblyScratch& s, const VectorType& state, bool matrix,
+                          bool newton) const;
+  /// The local residual and matrices of @p s into the global ones (local-to-global).
+  void distribute_cell(const AssemblyScratch& s, MatrixType* matrix, VectorType& residual,
+                       bool reaction_mode, MatrixType* schur_mass) const;
+  /// Vectors and outcome of one nonlinear step (nonlinear_solver.cc).
+  struct NonlinearWork;
+  struct NonlinearStep;
+  /// One Newton (with line search) or Picard step from solution_ at |R| = @p r.
+  NonlinearStep nonlinear_step(NonlinearWork& w, bool newton, bool nonlinear, double r,
+                               double r_ref);
+  /// The inverse |diagonal| of the system matrix's diagonal blocks (the merit's weights).
+  void jacobi_weights(VectorType& weight) const;
+  /// The line-search merit of the residual @p v (weighted or plain norm). Collective.
+  double merit(const VectorType& v, const VectorType& weight, bool scaled) const;
+  /// Backtracking along the update from solution_; true when a step was accepted.
+  bool line_search(NonlinearWork& w, double m0, bool scaled, double r, bool nonlinear,
+                   NonlinearStep& step);
+  /// The progress lines of solve_nonlinear(): its start, then one per step.
+  void log_nonlinear_start(double r0) const;
+  void log_nonlinear_step(const NonlinearStep& step, int it, double relative,
+                          bool iterative) const;
+  /// The message of a solve that did not converge, with its residual history.
+  void report_nonconvergence(double relative);
   /// MUMPS on the whole matrix, its linear residual checked (linear_solver.cc).
   void solve_direct(const VectorType& residual, VectorType& update);
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
   int solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance);
   /// Locally owned entries of the reaction -R (unconstrained volume residual) on the velocity
   /// dofs of boundary @p id, gathered on every rank.
-  std::map<dealii::types::global_dof_index, double> boundary_reaction(dealii::types::boundary_id id) const;
+  std::map<dealii::types::global_dof_index, double> boundary_reaction(
+      dealii::types::boundary_id id) const;
   PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u) const;
   void log(const std::string& s) const { if (setup_.log) setup_.log(s); }
 

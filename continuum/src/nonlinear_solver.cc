@@ -16,11 +16,23 @@ namespace {
 constexpr double kResidualGrowth = 1.5;
 }  // namespace
 
+/// The vectors of the nonlinear iterations (owned entries): the residual, the update, the
+/// trial state of the line search and its residual, the merit's Jacobi weights.
+struct FlowProblem::NonlinearWork {
+  VectorType res, upd, trial, trial_res, weight;
+};
+
+/// One nonlinear step: Newton or Picard as taken, its step length, its residual |R| and the
+/// Krylov iterations of its linear solve.
+struct FlowProblem::NonlinearStep {
+  bool newton = false;
+  double alpha = 1.0, residual = 0;
+  int linear_its = 0;
+};
+
 void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
-  const auto n = dof_handler_.n_dofs();
-  VectorType res = make_vector(), upd = make_vector(), trial = make_vector(),
-             trial_res = make_vector(), weight = make_vector();
-  double r = assemble_system(solution_, false, false, res);
+  NonlinearWork w{make_vector(), make_vector(), make_vector(), make_vector(), make_vector()};
+  double r = assemble_system(solution_, false, false, w.res);
   report_.converged = false;
   report_.message.clear();
   traction_id_ = -1;
@@ -30,13 +42,7 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
   const double r0 = r;
   const bool nonlinear =
       setup_.viscosity->is_nonlinear() || setup_.inertia_density > 0 || setup_.bc.friction;
-  {
-    std::ostringstream os;
-    os << "continuum: " << tria_.n_global_active_cells() << " cells, " << n
-       << " dofs, initial residual " << r0;
-    if (n_ranks() > 1) os << " (" << n_ranks() << " MPI ranks)";
-    log(os.str());
-  }
+  log_nonlinear_start(r0);
   if (r0 <= nl.absolute_tolerance || r0 <= nl.relative_tolerance * r_ref) {
     report_.converged = true;
     report_.final_residual = r0;
@@ -54,65 +60,12 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
     if (!newton_phase && it >= nl.picard_iterations &&
         (r < 0.5 * r0 || it >= 4 * std::max(nl.picard_iterations, 1)))
       newton_phase = true;
-    bool newton = newton_phase;
-    double alpha = 1.0, rt = 0;
-    int linear_its = 0;
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      assemble_system(solution_, true, newton, res);
-      // Line-search merit: without inertia the Jacobi-weighted norm sum_i R_i^2 / |J_ii| (the
-      // stiff, nearly rigid zones where eta ~ eta_max otherwise dominate |R| and force tiny
-      // steps; 46 -> 28 Newton steps on the spinning cylinder at refinement 2). With inertia
-      // the convective diagonal makes the weights unreliable and the plain |R| did better.
-      const bool scaled = setup_.inertia_density == 0;
-      for (unsigned int b = 0; b < 2; ++b) {
-        extract_diagonal(system_matrix_.block(b, b), weight.block(b));
-        for (auto& w : weight.block(b)) {
-          const double d = std::abs(w);
-          w = d > 0 ? 1.0 / d : 1.0;
-        }
-      }
-      const auto merit = [&](const VectorType& v) {
-        if (!scaled) return v.l2_norm();
-        return std::sqrt(owned_sum(v, weight, [](double x, double w) { return w * x * x; }, comm_));
-      };
-      const double m0 = merit(res);
-      // inexact Newton: the linear residual only needs to be small against the nonlinear one;
-      // forcing term 0.1 |R|/|R_0| (quadratic convergence is kept), at most 1e-3, at least 1e-10
-      const double forcing =
-          nonlinear ? std::clamp(0.1 * r / r_ref, 1e-10, 1e-3) : 1e-10;
-      linear_its = solve(res, upd, forcing);
-      alpha = 1.0;
-      bool accepted = false;
-      for (int ls = 0; ls <= 10; ++ls) {
-        trial = solution_;
-        trial.add(alpha, upd);
-        rt = assemble_system(trial, false, false, trial_res);
-        // Picard steps are fixed-point steps, not descent directions of |R|: taken in full.
-        // The weighted merit can fall while |R| grows several-fold (seen at refinement 3: a
-        // step taken at 1/8 raised |R| from 1.3 to 11 |R_0|, and the iteration never
-        // recovered); a Newton step must also keep |R| within kResidualGrowth of its value.
-        if (std::isfinite(rt) &&
-            ((merit(trial_res) < (1 - 1e-4 * alpha) * m0 && rt <= kResidualGrowth * r) ||
-             !nonlinear || !newton)) {
-          accepted = true;
-          break;
-        }
-        alpha *= 0.5;
-      }
-      if (accepted || !newton) break;
-      newton = false;  // fall back to a full Picard step
-    }
-    solution_ = trial;
-    r = rt;
-    (newton ? report_.newton_steps : report_.picard_steps) += 1;
+    const NonlinearStep step = nonlinear_step(w, newton_phase, nonlinear, r, r_ref);
+    solution_ = w.trial;
+    r = step.residual;
+    (step.newton ? report_.newton_steps : report_.picard_steps) += 1;
     report_.residual_history.push_back(r / r_ref);
-    {
-      std::ostringstream os;
-      os << "continuum: " << (newton ? "newton" : "picard") << " step " << it + 1
-         << "  |R|/|R0| = " << r / r_ref << "  step length " << alpha;
-      if (iterative) os << "  fgmres iterations " << linear_its;
-      log(os.str());
-    }
+    log_nonlinear_step(step, it, r / r_ref, iterative);
     if (!std::isfinite(r)) {
       report_.message = "nonlinear residual is not finite";
       break;
@@ -122,21 +75,116 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
       break;
     }
   }
-  if (!nonlinear && !iterative && std::isfinite(r)) report_.converged = true;  // one exact direct solve
+  if (!nonlinear && !iterative && std::isfinite(r))
+    report_.converged = true;  // one exact direct solve
   report_.final_residual = r;
-  if (!report_.converged && report_.message.empty()) {
+  report_nonconvergence(r / r_ref);
+}
+
+/// A Newton step from solution_ with its line search (@p newton), or a Picard step taken in
+/// full, at |R| = @p r; a Newton step whose line search fails is redone as a Picard step. The
+/// new state is left in w.trial.
+FlowProblem::NonlinearStep FlowProblem::nonlinear_step(NonlinearWork& w, bool newton,
+                                                       bool nonlinear, double r, double r_ref) {
+  NonlinearStep step;
+  step.newton = newton;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    assemble_system(solution_, true, step.newton, w.res);
+    // Line-search merit: without inertia the Jacobi-weighted norm sum_i R_i^2 / |J_ii| (the
+    // stiff, nearly rigid zones where eta ~ eta_max otherwise dominate |R| and force tiny
+    // steps; 46 -> 28 Newton steps on the spinning cylinder at refinement 2). With inertia
+    // the convective diagonal makes the weights unreliable and the plain |R| did better.
+    const bool scaled = setup_.inertia_density == 0;
+    jacobi_weights(w.weight);
+    const double m0 = merit(w.res, w.weight, scaled);
+    // inexact Newton: the linear residual only needs to be small against the nonlinear one;
+    // forcing term 0.1 |R|/|R_0| (quadratic convergence is kept), at most 1e-3, at least 1e-10
+    const double forcing =
+        nonlinear ? std::clamp(0.1 * r / r_ref, 1e-10, 1e-3) : 1e-10;
+    step.linear_its = solve(w.res, w.upd, forcing);
+    const bool accepted = line_search(w, m0, scaled, r, nonlinear, step);
+    if (accepted || !step.newton) break;
+    step.newton = false;  // fall back to a full Picard step
+  }
+  return step;
+}
+
+/// The inverse diagonal 1/|J_ii| of system_matrix_'s diagonal blocks (1 where it is 0).
+void FlowProblem::jacobi_weights(VectorType& weight) const {
+  for (unsigned int b = 0; b < 2; ++b) {
+    extract_diagonal(system_matrix_.block(b, b), weight.block(b));
+    for (auto& w : weight.block(b)) {
+      const double d = std::abs(w);
+      w = d > 0 ? 1.0 / d : 1.0;
+    }
+  }
+}
+
+/// The line search's merit of the residual @p v: sqrt(sum_i w_i v_i^2) when @p scaled, |v|
+/// otherwise. Collective.
+double FlowProblem::merit(const VectorType& v, const VectorType& weight, bool scaled) const {
+  if (!scaled) return v.l2_norm();
+  return std::sqrt(owned_sum(v, weight, [](double x, double w) { return w * x * x; }, comm_));
+}
+
+/// Backtracking from the full step along w.upd (halved down to 1/1024) until the merit falls
+/// by Armijo's factor below @p m0 and |R| stays within kResidualGrowth of @p r (Picard steps
+/// and linear problems: the full step); true when a step was accepted. step.alpha and
+/// step.residual are those of the last trial, in w.trial.
+bool FlowProblem::line_search(NonlinearWork& w, double m0, bool scaled, double r,
+                              bool nonlinear, NonlinearStep& step) {
+  step.alpha = 1.0;
+  for (int ls = 0; ls <= 10; ++ls) {
+    w.trial = solution_;
+    w.trial.add(step.alpha, w.upd);
+    step.residual = assemble_system(w.trial, false, false, w.trial_res);
+    // Picard steps are fixed-point steps, not descent directions of |R|: taken in full.
+    // The weighted merit can fall while |R| grows several-fold (seen at refinement 3: a
+    // step taken at 1/8 raised |R| from 1.3 to 11 |R_0|, and the iteration never
+    // recovered); a Newton step must also keep |R| within kResidualGrowth of its value.
+    if (std::isfinite(step.residual) &&
+        ((merit(w.trial_res, w.weight, scaled) < (1 - 1e-4 * step.alpha) * m0 &&
+          step.residual <= kResidualGrowth * r) ||
+         !nonlinear || !step.newton))
+      return true;
+    step.alpha *= 0.5;
+  }
+  return false;
+}
+
+/// The first line of a solve: mesh, dofs, ranks and the initial residual @p r0.
+void FlowProblem::log_nonlinear_start(double r0) const {
+  std::ostringstream os;
+  os << "continuum: " << tria_.n_global_active_cells() << " cells, " << dof_handler_.n_dofs()
+     << " dofs, initial residual " << r0;
+  if (n_ranks() > 1) os << " (" << n_ranks() << " MPI ranks)";
+  log(os.str());
+}
+
+/// One line per nonlinear step: its kind, |R|/|R0| (@p relative), step length, Krylov count.
+void FlowProblem::log_nonlinear_step(const NonlinearStep& step, int it, double relative,
+                                     bool iterative) const {
+  std::ostringstream os;
+  os << "continuum: " << (step.newton ? "newton" : "picard") << " step " << it + 1
+     << "  |R|/|R0| = " << relative << "  step length " << step.alpha;
+  if (iterative) os << "  fgmres iterations " << step.linear_its;
+  log(os.str());
+}
+
+/// When the solve did not converge: the message with the last |R|/|R0| (@p relative) and
+/// the residual history of the last 12 steps (stalled, oscillating or growing).
+void FlowProblem::report_nonconvergence(double relative) {
+  if (report_.converged) return;
+  if (report_.message.empty()) {
     std::ostringstream os;
     os << "no convergence after " << report_.picard_steps + report_.newton_steps
-       << " nonlinear iterations: |R|/|R0| = " << r / r_ref;
+       << " nonlinear iterations: |R|/|R0| = " << relative;
     report_.message = os.str();
   }
-  if (!report_.converged) {
-    // the residual history (the last 12 steps) says how it failed: stalled, oscillating, growing
-    std::ostringstream os;
-    const auto& h = report_.residual_history;
-    os << "; residual history |R|/|R0|" << (h.size() > 12 ? " (last 12)" : "") << ":";
-    for (std::size_t k = h.size() > 12 ? h.size() - 12 : 0; k < h.size(); ++k) os << " " << h[k];
-    report_.message += os.str();
-  }
+  std::ostringstream os;
+  const auto& h = report_.residual_history;
+  os << "; residual history |R|/|R0|" << (h.size() > 12 ? " (last 12)" : "") << ":";
+  for (std::size_t k = h.size() > 12 ? h.size() - 12 : 0; k < h.size(); ++k) os << " " << h[k];
+  report_.message += os.str();
 }
 }  // namespace grainlift::continuum::internal
