@@ -17,7 +17,7 @@
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/bed/packing.h"
 #include "grainlift/dem/scenes/simulation.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/dem/lammps_bridge.h"
 

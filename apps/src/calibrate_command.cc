@@ -5,9 +5,9 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/rheology_cache.h"
+#include "grainlift/shared/rheology/rheology_cache.h"
 #include "python_script.h"
 #ifdef GRAINLIFT_HAVE_DEM
 #include "grainlift/dem/calibration.h"

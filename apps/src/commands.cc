@@ -8,15 +8,15 @@
 #include <iostream>
 #include <map>
 
-#include "grainlift/shared/atomic_file.h"
-#include "grainlift/shared/case_keys.h"
-#include "grainlift/shared/case_loader.h"
-#include "grainlift/shared/compare.h"
+#include "grainlift/shared/results/atomic_file.h"
+#include "grainlift/shared/case/case_keys.h"
+#include "grainlift/shared/case/case_loader.h"
+#include "grainlift/shared/results/compare.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/interrupt.h"
-#include "grainlift/shared/result_file.h"
-#include "grainlift/shared/rheology_cache.h"
-#include "grainlift/shared/rheology_file.h"
+#include "grainlift/shared/run/interrupt.h"
+#include "grainlift/shared/results/result_file.h"
+#include "grainlift/shared/rheology/rheology_cache.h"
+#include "grainlift/shared/rheology/rheology_file.h"
 
 namespace grainlift::app {
 namespace {

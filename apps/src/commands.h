@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/run/run_driver.h"
 
 namespace grainlift::app {
 

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
 #ifdef GRAINLIFT_HAVE_DEM
 #include "grainlift/dem/lammps_bridge.h"

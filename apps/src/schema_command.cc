@@ -4,7 +4,7 @@
 
 #include "commands.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/result_schema.h"
+#include "grainlift/shared/results/result_schema.h"
 
 namespace grainlift::app {
 

@@ -13,12 +13,12 @@
 
 #include "grainlift/continuum/errors.h"
 #include "grainlift/continuum/solver.h"
-#include "grainlift/shared/interrupt.h"
-#include "grainlift/shared/case_geometry.h"
+#include "grainlift/shared/run/interrupt.h"
+#include "grainlift/shared/case/case_geometry.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/force_statistics.h"
-#include "grainlift/shared/surface_smoothing.h"
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/statistics/force_statistics.h"
+#include "grainlift/shared/surface/surface_smoothing.h"
+#include "grainlift/shared/surface/surface_stress.h"
 
 namespace grainlift::continuum {
 

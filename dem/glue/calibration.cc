@@ -10,7 +10,7 @@
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/scenes/shear_cell.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/run/run_driver.h"
 
 namespace grainlift::dem {
 

@@ -11,11 +11,11 @@
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/scenes/simulation.h"
-#include "grainlift/shared/case_geometry.h"
+#include "grainlift/shared/case/case_geometry.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/force_statistics.h"
-#include "grainlift/shared/statistics.h"
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/statistics/force_statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
+#include "grainlift/shared/surface/surface_stress.h"
 #include "dem_result_parts.h"
 
 namespace grainlift::dem {

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "grainlift/dem/dem_output.h"
-#include "grainlift/shared/case_model.h"
+#include "grainlift/shared/case/case_model.h"
 
 namespace grainlift::dem {
 

@@ -13,10 +13,10 @@
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/lammps_bridge.h"
 #include "grainlift/dem/scenes/simulation.h"
-#include "grainlift/shared/atomic_file.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/results/atomic_file.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/run/run_driver.h"
 
 namespace grainlift::dem {
 namespace {

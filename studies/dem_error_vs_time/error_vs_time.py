@@ -6,7 +6,7 @@ lift fall as a run goes on, and what a stated error would cost.
 
 For each dem.h5, at every 10% of the averaged samples, the relative errors of the mean drag
 and lift over the samples so far: block averages (--blocks, default the file's), corrected for
-correlated blocks exactly as `dem.target_error` does (shared/src/force_statistics.cc: the
+correlated blocks exactly as `dem.target_error` does (shared/src/statistics/force_statistics.cc: the
 lag-1 autocorrelation r of the block means, clipped to [0, 0.9], multiplies the error by
 sqrt((1 + r) / (1 - r))). Wall time is the file's wall_seconds pro rata of the steps (the
 packing, when it was prepared rather than reused, counts in wall_seconds: see the notes).

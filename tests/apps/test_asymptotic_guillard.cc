@@ -14,7 +14,7 @@
 #include "block_mean.h"
 #include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/scenes/simulation.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_loader.h"
 
 namespace gd = grainlift::dem;
 using grainlift::test_support::block_mean;

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/shared/result_file.h"
-#include "grainlift/shared/rheology_file.h"
+#include "grainlift/shared/results/result_file.h"
+#include "grainlift/shared/rheology/rheology_file.h"
 #include "run_command.h"
 #include "tiny_dem_case.h"
 

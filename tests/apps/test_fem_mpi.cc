@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/shared/result_file.h"
+#include "grainlift/shared/results/result_file.h"
 #include "run_command.h"
 
 namespace fs = std::filesystem;

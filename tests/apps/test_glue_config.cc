@@ -13,11 +13,11 @@
 #include "grainlift/continuum/continuum_solver.h"
 #include "grainlift/continuum/solver.h"
 #include "grainlift/dem/bed/packing.h"
-#include "grainlift/shared/case_geometry.h"
+#include "grainlift/shared/case/case_geometry.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/dem/dem_solver.h"
-#include "grainlift/shared/case_keys.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_keys.h"
+#include "grainlift/shared/case/case_loader.h"
 
 namespace {
 

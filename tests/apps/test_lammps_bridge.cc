@@ -12,8 +12,8 @@
 #include <sstream>
 #include <string>
 
-#include "grainlift/shared/compare.h"
-#include "grainlift/shared/result_file.h"
+#include "grainlift/shared/results/compare.h"
+#include "grainlift/shared/results/result_file.h"
 #include "run_command.h"
 #include "tiny_dem_case.h"
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "grainlift/dem/scenes/shear_cell.h"
-#include "grainlift/shared/statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
 
 namespace gd = grainlift::dem;
 

@@ -16,7 +16,7 @@
 #include "grainlift/dem/bed/packing.h"
 #include "grainlift/dem/scenes/simulation.h"
 #include "grainlift/dem/step/vector_kernels.h"
-#include "grainlift/shared/statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
 #include "dem_beds.h"
 
 namespace gd = grainlift::dem;

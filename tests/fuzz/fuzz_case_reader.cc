@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "fuzz_scratch.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/rheology_file.h"
+#include "grainlift/shared/rheology/rheology_file.h"
 
 namespace {
 

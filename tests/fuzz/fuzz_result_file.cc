@@ -13,11 +13,11 @@
 #include <string>
 
 #include "fuzz_scratch.h"
-#include "grainlift/shared/compare.h"
-#include "grainlift/shared/derived_quantities.h"
+#include "grainlift/shared/results/compare.h"
+#include "grainlift/shared/results/derived_quantities.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/result_file.h"
-#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/results/result_file.h"
+#include "grainlift/shared/run/run_driver.h"
 #include "result_ops.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

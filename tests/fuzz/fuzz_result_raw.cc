@@ -9,7 +9,7 @@
 
 #include "fuzz_scratch.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/result_file.h"
+#include "grainlift/shared/results/result_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const std::string path = grainlift::fuzz::scratch_path("raw.h5");

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "grainlift/dem/system/checkpoint.h"
-#include "grainlift/shared/result_file.h"
+#include "grainlift/shared/results/result_file.h"
 #include "result_ops.h"
 #include "sample_result.h"
 

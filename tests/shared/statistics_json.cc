@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/shared/statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
 
 namespace {
 

@@ -10,11 +10,11 @@
 
 #include <unistd.h>
 
-#include "grainlift/shared/case_keys.h"
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_keys.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/rheology_file.h"
-#include "grainlift/shared/rheology_fit.h"
+#include "grainlift/shared/rheology/rheology_file.h"
+#include "grainlift/shared/rheology/rheology_fit.h"
 
 using namespace grainlift;
 

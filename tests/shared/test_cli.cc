@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "grainlift/shared/result_file.h"
-#include "grainlift/shared/result_schema.h"
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/results/result_file.h"
+#include "grainlift/shared/results/result_schema.h"
+#include "grainlift/shared/surface/surface_stress.h"
 #include "run_command.h"
 
 using namespace grainlift;

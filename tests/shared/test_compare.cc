@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "grainlift/shared/compare.h"
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/results/compare.h"
+#include "grainlift/shared/surface/surface_stress.h"
 
 using namespace grainlift;
 

@@ -2,7 +2,7 @@
 // test_statistics.cc.)
 #include <gtest/gtest.h>
 
-#include "grainlift/shared/force_statistics.h"
+#include "grainlift/shared/statistics/force_statistics.h"
 
 using namespace grainlift;
 

@@ -11,7 +11,7 @@
 #include <fstream>
 
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/result_file.h"
+#include "grainlift/shared/results/result_file.h"
 #include "sample_result.h"
 
 using namespace grainlift;

@@ -13,8 +13,8 @@
 #include <set>
 
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/result_file.h"
-#include "grainlift/shared/result_schema.h"
+#include "grainlift/shared/results/result_file.h"
+#include "grainlift/shared/results/result_schema.h"
 #include "sample_result.h"
 
 using namespace grainlift;

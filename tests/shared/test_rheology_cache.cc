@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/shared/case_loader.h"
-#include "grainlift/shared/rheology_cache.h"
-#include "grainlift/shared/rheology_file.h"
-#include "grainlift/shared/rheology_fit.h"
+#include "grainlift/shared/case/case_loader.h"
+#include "grainlift/shared/rheology/rheology_cache.h"
+#include "grainlift/shared/rheology/rheology_file.h"
+#include "grainlift/shared/rheology/rheology_fit.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;

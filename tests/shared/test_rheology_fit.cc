@@ -12,8 +12,8 @@
 #include <regex>
 
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/rheology_file.h"
-#include "grainlift/shared/rheology_fit.h"
+#include "grainlift/shared/rheology/rheology_file.h"
+#include "grainlift/shared/rheology/rheology_fit.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;

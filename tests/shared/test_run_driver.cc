@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "grainlift/shared/case_loader.h"
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
-#include "grainlift/shared/result_file.h"
-#include "grainlift/shared/run_driver.h"
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/results/result_file.h"
+#include "grainlift/shared/run/run_driver.h"
+#include "grainlift/shared/surface/surface_stress.h"
 
 using namespace grainlift;
 namespace fs = std::filesystem;

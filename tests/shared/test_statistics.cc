@@ -7,7 +7,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "grainlift/shared/statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
 
 using namespace grainlift;
 

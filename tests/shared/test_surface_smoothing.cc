@@ -8,8 +8,8 @@
 #include <cmath>
 #include <vector>
 
-#include "grainlift/shared/surface_smoothing.h"
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/surface/surface_smoothing.h"
+#include "grainlift/shared/surface/surface_stress.h"
 
 using namespace grainlift;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "grainlift/shared/surface_stress.h"
+#include "grainlift/shared/surface/surface_stress.h"
 
 using namespace grainlift;
 

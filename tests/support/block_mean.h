@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "grainlift/dem/dem_output.h"
-#include "grainlift/shared/statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
 
 namespace grainlift::test_support {
 

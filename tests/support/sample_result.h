@@ -3,7 +3,7 @@
 // at 20 rad/s in a 6 m periodic box. Each caller adds the series it needs.
 #pragma once
 
-#include "grainlift/shared/run_result.h"
+#include "grainlift/shared/results/run_result.h"
 
 namespace grainlift::test_support {
 

@@ -15,7 +15,7 @@
 #include "grainlift/dem/boundaries/lid.h"
 #include "grainlift/dem/bed/packing.h"
 #include "grainlift/dem/system/system_setup.h"
-#include "grainlift/shared/statistics.h"
+#include "grainlift/shared/statistics/statistics.h"
 
 namespace grainlift::dem {
 

@@ -3,8 +3,8 @@
 #pragma once
 
 #include "grainlift/continuum/continuum_config.h"
-#include "grainlift/shared/case_model.h"
-#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/case/case_model.h"
+#include "grainlift/shared/run/run_driver.h"
 
 namespace grainlift::continuum {
 

@@ -1,6 +1,6 @@
 // `grainlift calibrate`: the mu(I) and Phi(I) of a case's grains, measured in the DEM
 // simple-shear cell (dem/include/grainlift/dem/shear_cell.h) at imposed pressure and fitted
-// (shared/include/grainlift/shared/rheology_fit.h), for the continuum to use the DEM's material
+// (shared/include/grainlift/shared/rheology/rheology_fit.h), for the continuum to use the DEM's material
 // (continuum.rheology_file).
 #pragma once
 
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "grainlift/shared/case_model.h"
-#include "grainlift/shared/rheology_file.h"
+#include "grainlift/shared/case/case_model.h"
+#include "grainlift/shared/rheology/rheology_file.h"
 
 namespace grainlift::dem {
 

@@ -3,8 +3,8 @@
 
 #include "grainlift/dem/dem_config.h"
 #include "grainlift/dem/dem_output.h"
-#include "grainlift/shared/case_model.h"
-#include "grainlift/shared/run_driver.h"
+#include "grainlift/shared/case/case_model.h"
+#include "grainlift/shared/run/run_driver.h"
 
 namespace grainlift::dem {
 

@@ -11,8 +11,8 @@
 
 #include "grainlift/dem/dem_config.h"
 #include "grainlift/dem/bed/packing.h"
-#include "grainlift/shared/case_model.h"
-#include "grainlift/shared/run_result.h"
+#include "grainlift/shared/case/case_model.h"
+#include "grainlift/shared/results/run_result.h"
 
 namespace grainlift::dem {
 

@@ -1,0 +1,40 @@
+// The calibrated rheology of a grain material, cached like the prepared beds: `grainlift
+// calibrate` saves its rheology file under a name made from everything the shear cell's result
+// depends on (grain sizes, density, contact law and its parameters, friction, time step, the
+// cell's pressure), and a run whose case does not state a mu(I) law of its own finds it there.
+//
+//   $XDG_CACHE_HOME/grainlift/rheology/rheology-<key>.toml   (dem.packing_cache = "auto")
+//   <dem.packing_cache>/rheology/rheology-<key>.toml         (a folder of the user's)
+//   nothing                                                   (dem.packing_cache = "")
+#pragma once
+
+#include <string>
+
+#include "grainlift/shared/case/case_model.h"
+
+namespace grainlift {
+
+/// @brief The cache folder of one kind of cached object ("packings", "rheology") for the
+/// dem.packing_cache setting: "auto" = $XDG_CACHE_HOME/grainlift/<kind> (or
+/// ~/.cache/grainlift/<kind>), "" = no cache (returns ""), a folder = that folder for "packings"
+/// and <folder>/<kind> for other kinds.
+std::string cache_folder(const std::string& setting, const std::string& kind);
+
+/// @brief 16 hex digits naming the material of @p c as the shear cell sees it, at confining
+/// pressure @p pressure (Pa): grains.diameter, polydispersity, density, friction, the contact
+/// law's name and every contact parameter, dem.dt and the pressure (6 significant digits).
+std::string grain_material_key(const Case& c, double pressure);
+
+/// @brief Path of the cached rheology file of @p c's grains at @p pressure ("" when the case
+/// switches caching off).
+std::string rheology_cache_path(const Case& c, double pressure);
+
+/// @brief When @p c's continuum has no law of its own (law_source "default") and the cache holds
+/// a rheology file for its grains at c.continuum_pressure(), takes mu_s, mu_2, I0 from it and
+/// sets law_source "calibration cache" and rheology_file to the cached file.
+/// @return a one-line note for the user saying which law the continuum will use and why (empty
+/// when the case states its law, or has no confining pressure: the continuum refuses it).
+/// @throws InputError when the cached file exists but does not read as a rheology file.
+std::string use_cached_rheology(Case& c);
+
+}  // namespace grainlift

@@ -1,0 +1,50 @@
+// The fitted rheology of one grain material as a small TOML file: the mu(I) and Phi(I) laws
+// with their uncertainties, where they came from, and the measured points they were fitted to.
+// Written by the calibration, read by whoever wants "the same material" in the continuum.
+//
+//   [source]                 free strings: grains, date, grainlift_version, ...
+//   [mu_i]                   mu_s, mu_2, I0, *_err, covariance (3x3), chi2_per_dof, points,
+//                            I_min, I_max (range of the data: the law is measured there only)
+//   [phi_i]                  phi_max, a, *_err, chi2_per_dof, points
+//   [[point]]                I, mu, mu_stderr, phi, phi_stderr (one table per measurement)
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "grainlift/shared/rheology/rheology_fit.h"
+
+namespace grainlift {
+
+/// Everything a rheology file holds.
+struct RheologyFile {
+  std::map<std::string, std::string> source;  ///< free strings (grains, date, grainlift_version)
+  MuIFit mu_i;                                ///< message and converged are not stored
+  double I_min = 0, I_max = 0;                ///< range of I of the points mu_i was fitted to
+  PhiFit phi_i;
+  std::vector<ShearPoint> points;             ///< the measurements
+};
+
+/// @brief Fits mu(I) and Phi(I) to @p points and fills a RheologyFile (I_min, I_max from the
+/// points; source["grainlift_version"] added when absent).
+/// @throws std::invalid_argument as fit_mu_i / fit_phi_i do; RunError when mu(I) did not converge.
+RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
+                                std::map<std::string, std::string> source);
+
+/// @brief Writes @p data to @p path atomically (temporary file + rename), every number with 17
+/// significant digits so that reading it back gives the same doubles.
+/// @throws InputError naming the key when @p data would not pass read_rheology_file's checks;
+///         RunError when the file cannot be written.
+void write_rheology_file(const std::string& path, const RheologyFile& data);
+
+/// @brief Reads and validates a rheology file: every number finite, 0 <= mu_s < mu_2, I0 > 0,
+/// errors >= 0, 0 < I_min <= I_max, 0 < phi_max <= 1, stderr of each point > 0.
+/// @throws InputError naming the file, the key and the accepted range (or the TOML error).
+RheologyFile read_rheology_file(const std::string& path);
+
+/// @brief Whether @p path is meant as a rheology file rather than a case: valid TOML with a
+/// [mu_i] table and no [domain] (used by `grainlift validate` to check each kind as its own).
+bool is_rheology_file(const std::string& path);
+
+}  // namespace grainlift
