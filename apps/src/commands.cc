@@ -287,6 +287,79 @@ void add_run_options(CLI::App* cmd, RunArgs& a) {
   cmd->add_flag("--quiet", a.quiet, "no progress lines");
 }
 
+/// `grainlift calibrate` and its options into @p cal.
+CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& cal) {
+  auto* calibrate = app.add_subcommand(
+      "calibrate", "measure mu(I) and Phi(I) of the case's grains in a DEM shear cell and fit "
+                   "them: a rheology file for continuum.rheology_file");
+  calibrate->add_option("CASE", cal.case_path, "case file whose grains are calibrated")->required();
+  calibrate->add_option("--out", cal.out, "rheology file to write (default: rheology.toml beside "
+                                          "the case)");
+  calibrate->add_option("--set", cal.sets, "override a case key (as for run)");
+  calibrate->add_option("--pressure", cal.pressure,
+                        "P of the cell, Pa (default: the case's: lid + lithostatic, or "
+                        "continuum.ambient_pressure)")
+      ->check(CLI::PositiveNumber);
+  calibrate->add_option("--inertial-numbers", cal.inertial_numbers,
+                        "target inertial numbers (default 1e-3 3e-3 1e-2 3e-2 0.06 0.1 0.2 0.5)")
+      ->check(CLI::Range(1e-5, 2.0));
+  calibrate->add_option("--strain-scale", cal.strain_scale,
+                        "multiplies the strain of every point's run-in and window")
+      ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
+  calibrate->add_option("--threads", cal.threads, "threads for the DEM")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  calibrate->add_flag("--quiet", cal.quiet, "no line per point");
+  return calibrate;
+}
+
+/// The options of `grainlift export lammps` and `grainlift import lammps`.
+struct LammpsArgs {
+  std::string export_case, export_dir, import_dir, import_out;
+  std::vector<std::string> export_sets;
+};
+/// The two LAMMPS subcommands (parsed when set).
+struct LammpsCommands {
+  CLI::App* exporter;
+  CLI::App* importer;
+};
+
+/// `grainlift export lammps` and `grainlift import lammps` with their options into @p a.
+LammpsCommands add_lammps_commands(CLI::App& app, LammpsArgs& a) {
+  auto* exporter = app.add_subcommand("export", "write a case for another code");
+  exporter->require_subcommand(1);
+  auto* export_lammps = exporter->add_subcommand(
+      "lammps", "the case's prepared bed and scene as a LAMMPS input script and data file in DIR "
+                "(docs/lammps.md); run it with lmp or mpirun, then `grainlift import lammps`");
+  export_lammps->add_option("CASE", a.export_case, "case file (TOML)")->required();
+  export_lammps->add_option("DIR", a.export_dir, "folder to write in.grainlift and bed.data to")
+      ->required();
+  export_lammps->add_option("--set", a.export_sets, "override a case key (as for run)");
+
+  auto* importer = app.add_subcommand("import", "read another code's run of an exported case");
+  importer->require_subcommand(1);
+  auto* import_lammps = importer->add_subcommand(
+      "lammps", "LAMMPS's outputs in DIR (from `grainlift export lammps`) as OUT/dem.h5 and "
+                "summary.json, through the DEM's post-processing");
+  import_lammps->add_option("DIR", a.import_dir, "the exported folder LAMMPS ran in")->required();
+  import_lammps->add_option("--out", a.import_out, "output folder (default: DIR/grainlift)");
+  return {export_lammps, import_lammps};
+}
+
+/// `grainlift keys`: every case key with its type, unit, default and range (or the Markdown
+/// table of docs/case-format.md).
+int cmd_keys(bool markdown) {
+  if (markdown) {
+    fmt::print("{}", keys_markdown());
+    return exit_success;
+  }
+  for (const auto& k : case_keys())
+    fmt::print("{:32} {:16} {:10} default {:18} accepted {}\n", k.path, type_name(k.type), k.unit,
+               k.required ? "(required)" : k.default_text, accepted_range(k));
+  return exit_success;
+}
+
 }  // namespace
 
 int main_with_args(int argc, char** argv) {
@@ -325,28 +398,7 @@ int main_with_args(int argc, char** argv) {
   sweep->add_option("--vary", vary, "section.key=v1,v2,... (any key)")->required();
 
   CalibrateArgs cal;
-  auto* calibrate = app.add_subcommand(
-      "calibrate", "measure mu(I) and Phi(I) of the case's grains in a DEM shear cell and fit "
-                   "them: a rheology file for continuum.rheology_file");
-  calibrate->add_option("CASE", cal.case_path, "case file whose grains are calibrated")->required();
-  calibrate->add_option("--out", cal.out, "rheology file to write (default: rheology.toml beside "
-                                          "the case)");
-  calibrate->add_option("--set", cal.sets, "override a case key (as for run)");
-  calibrate->add_option("--pressure", cal.pressure,
-                        "P of the cell, Pa (default: the case's: lid + lithostatic, or "
-                        "continuum.ambient_pressure)")
-      ->check(CLI::PositiveNumber);
-  calibrate->add_option("--inertial-numbers", cal.inertial_numbers,
-                        "target inertial numbers (default 1e-3 3e-3 1e-2 3e-2 0.06 0.1 0.2 0.5)")
-      ->check(CLI::Range(1e-5, 2.0));
-  calibrate->add_option("--strain-scale", cal.strain_scale,
-                        "multiplies the strain of every point's run-in and window")
-      ->check(CLI::Range(0.1, 100.0))
-      ->capture_default_str();
-  calibrate->add_option("--threads", cal.threads, "threads for the DEM")
-      ->check(CLI::Range(1, 256))
-      ->capture_default_str();
-  calibrate->add_flag("--quiet", cal.quiet, "no line per point");
+  auto* calibrate = add_calibrate_command(app, cal);
 
   std::string report_dir;
   auto* report = app.add_subcommand(
@@ -354,26 +406,8 @@ int main_with_args(int argc, char** argv) {
                 "their split, fields and a table of both solvers (scripts/report.py)");
   report->add_option("DIR", report_dir, "result folder with dem.h5 and/or fem.h5")->required();
 
-  std::string export_case, export_dir;
-  std::vector<std::string> export_sets;
-  auto* exporter = app.add_subcommand("export", "write a case for another code");
-  exporter->require_subcommand(1);
-  auto* export_lammps = exporter->add_subcommand(
-      "lammps", "the case's prepared bed and scene as a LAMMPS input script and data file in DIR "
-                "(docs/lammps.md); run it with lmp or mpirun, then `grainlift import lammps`");
-  export_lammps->add_option("CASE", export_case, "case file (TOML)")->required();
-  export_lammps->add_option("DIR", export_dir, "folder to write in.grainlift and bed.data to")
-      ->required();
-  export_lammps->add_option("--set", export_sets, "override a case key (as for run)");
-
-  std::string import_dir, import_out;
-  auto* importer = app.add_subcommand("import", "read another code's run of an exported case");
-  importer->require_subcommand(1);
-  auto* import_lammps = importer->add_subcommand(
-      "lammps", "LAMMPS's outputs in DIR (from `grainlift export lammps`) as OUT/dem.h5 and "
-                "summary.json, through the DEM's post-processing");
-  import_lammps->add_option("DIR", import_dir, "the exported folder LAMMPS ran in")->required();
-  import_lammps->add_option("--out", import_out, "output folder (default: DIR/grainlift)");
+  LammpsArgs lammps;
+  const LammpsCommands lammps_cmds = add_lammps_commands(app, lammps);
 
   bool markdown = false;
   auto* keys = app.add_subcommand("keys", "list every case key with unit, default and range");
@@ -396,19 +430,16 @@ int main_with_args(int argc, char** argv) {
     if (*sweep) return cmd_sweep(sweep_args, vary);
     if (*calibrate) return cmd_calibrate(cal);
     if (*report) return cmd_report(report_dir);
-    if (*export_lammps) return cmd_export_lammps(export_case, export_sets, export_dir);
-    if (*import_lammps)
-      return cmd_import_lammps(import_dir,
-                               import_out.empty() ? import_dir + "/grainlift" : import_out);
-    if (*schema) return cmd_schema(markdown);
-    if (*keys) {
-      if (markdown) fmt::print("{}", keys_markdown());
-      else
-        for (const auto& k : case_keys())
-          fmt::print("{:32} {:16} {:10} default {:18} accepted {}\n", k.path, type_name(k.type),
-                     k.unit, k.required ? "(required)" : k.default_text, accepted_range(k));
-      return exit_success;
+    if (*lammps_cmds.exporter) {
+      return cmd_export_lammps(lammps.export_case, lammps.export_sets, lammps.export_dir);
     }
+    if (*lammps_cmds.importer) {
+      return cmd_import_lammps(lammps.import_dir, lammps.import_out.empty()
+                                                      ? lammps.import_dir + "/grainlift"
+                                                      : lammps.import_out);
+    }
+    if (*schema) return cmd_schema(markdown);
+    if (*keys) return cmd_keys(markdown);
   } catch (const InputError& e) {
     std::string msg = e.what();
     if (!msg.empty() && msg.back() != '\n') msg += '\n';
