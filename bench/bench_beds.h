@@ -32,8 +32,8 @@ inline dem::DemConfig bed_config(double phi) {
 
 /// The engine on the prepared bed @p b of configuration @p c, as run_simulation sets it up with
 /// fields off (no per-pair force store), on @p threads threads; not yet advanced.
-inline std::unique_ptr<dem::DemSystem> bench_system(const dem::DemConfig& c, const dem::PackedBed& b,
-                                                    int threads) {
+inline std::unique_ptr<dem::DemSystem> bench_system(const dem::DemConfig& c,
+                                                    const dem::PackedBed& b, int threads) {
   dem::SystemOptions o = dem::system_options(c);
   o.threads = threads;
   auto s = std::make_unique<dem::DemSystem>(o);

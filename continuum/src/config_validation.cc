@@ -40,7 +40,8 @@ void validate_config(const ContinuumConfig& c) {
             box.str() + " must clear the intruder (radius " + std::to_string(R) +
                 " m) by a tenth of its radius on every side");
   }
-  require(finite(c.intruder_velocity[0]) && finite(c.intruder_velocity[1]), "intruder_velocity must be finite");
+  require(finite(c.intruder_velocity[0]) && finite(c.intruder_velocity[1]),
+          "intruder_velocity must be finite");
   require(finite(c.intruder_omega), "intruder_omega must be finite");
   require(finite(c.gravity[0]) && finite(c.gravity[1]), "gravity must be finite");
   require(finite(c.bulk_density) && c.bulk_density > 0, "bulk_density must be > 0");
@@ -61,8 +62,9 @@ void validate_config(const ContinuumConfig& c) {
   require(r.grain_diameter > 0, "rheology grain_diameter must be > 0");
   require(r.solid_density > 0, "rheology solid_density must be > 0");
   require(r.delta >= 0, "rheology delta must be >= 0");
-  require(r.regularisation != Regularisation::chauchat_medale || r.delta > 0 || r.eta_max < HUGE_VAL,
-          "chauchat_medale needs delta > 0 or a finite eta_max");
+  require(
+      r.regularisation != Regularisation::chauchat_medale || r.delta > 0 || r.eta_max < HUGE_VAL,
+      "chauchat_medale needs delta > 0 or a finite eta_max");
   require(r.eta_min >= 0 && r.eta_max > r.eta_min, "rheology needs 0 <= eta_min < eta_max");
   if (r.regularisation == Regularisation::barker_gray) {
     // the low-I branch is well posed only when it joins mu(I) where mu(I) itself is
@@ -80,7 +82,8 @@ void validate_config(const ContinuumConfig& c) {
   require(c.inertia_threshold >= 0, "inertia_threshold must be >= 0");
   require(c.refinement >= 0 && c.refinement <= 7, "refinement must be in [0, 7]");
   require(c.adaptive_cycles >= 0 && c.adaptive_cycles <= 5, "adaptive_cycles must be in [0, 5]");
-  require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1, "nonlinear_tolerance must be in (0, 1)");
+  require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1,
+          "nonlinear_tolerance must be in (0, 1)");
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
   require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
   for (const double t : c.surface_theta) require(finite(t), "surface_theta values must be finite");

@@ -60,7 +60,8 @@ void FlowProblem::run() {
   report_ = NonlinearReport{};
   solve_nonlinear(setup_.nonlinear);
 }
-PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, const Vec2& u) const {
+PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p,
+                                   const Vec2& u) const {
   RheologyInputs in;
   in.resize(1);
   RheologyOutputs out;

@@ -105,10 +105,12 @@ void IntruderMesh::decorate(Triangulation<2>& tria) const {
     for (const auto& face : cell->face_iterators()) {
       if (!face->at_boundary()) continue;
       const Point2 c = face->center();
-      if (std::abs(face->vertex(0).norm() - R_) < tol && std::abs(face->vertex(1).norm() - R_) < tol) {
+      if (std::abs(face->vertex(0).norm() - R_) < tol &&
+          std::abs(face->vertex(1).norm() - R_) < tol) {
         face->set_boundary_id(kHole);
         face->set_manifold_id(0);
-      } else if (std::abs(c[0] - box_[0]) < tol) face->set_boundary_id(kLeft);
+      } else if (std::abs(c[0] - box_[0]) < tol)
+        face->set_boundary_id(kLeft);
       else if (std::abs(c[0] - box_[1]) < tol) face->set_boundary_id(kRight);
       else if (std::abs(c[1] - box_[2]) < tol) face->set_boundary_id(kBottom);
       else face->set_boundary_id(kTop);

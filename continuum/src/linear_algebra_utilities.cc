@@ -26,7 +26,8 @@ std::vector<double> sum_over_ranks(std::vector<double> v, MPI_Comm comm) {
 void add_missing_diagonal(TrilinosWrappers::SparseMatrix& m, double value) {
   const IndexSet rows = m.locally_owned_range_indices();
   TrilinosWrappers::SparsityPattern sp(rows, rows, m.get_mpi_communicator());
-  std::vector<std::pair<types::global_dof_index, std::pair<types::global_dof_index, double>>> entries;
+  std::vector<std::pair<types::global_dof_index, std::pair<types::global_dof_index, double>>>
+      entries;
   for (const auto i : rows) sp.add(i, i);
   for_each_entry(m, [&](types::global_dof_index i, types::global_dof_index j, double v) {
     sp.add(i, j);

@@ -28,7 +28,8 @@ namespace {
 /// (u, p) as a deal.II Function with 3 components.
 class VelocityPressure : public Function<dim> {
  public:
-  VelocityPressure(VectorField u, ScalarField p) : Function<dim>(dim + 1), u_(std::move(u)), p_(std::move(p)) {}
+  VelocityPressure(VectorField u, ScalarField p)
+      : Function<dim>(dim + 1), u_(std::move(u)), p_(std::move(p)) {}
   double value(const Point<dim>& x, const unsigned int c) const override {
     if (c < dim) return u_ ? u_(x)[c] : 0.0;
     return p_ ? p_(x) : 0.0;

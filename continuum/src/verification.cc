@@ -81,8 +81,10 @@ CouetteResult rotating_cylinder_couette(double R1, double R2, double eta, double
     Point2 where;
     const auto st = problem.boundary_state(0, Point2(), angle, n_medium, where);
     const Vec2 tg = st.stress * Vec2(-n_medium);
-    r.shear_error_consistent = std::max(r.shear_error_consistent, std::abs(tc * e_theta - tau) / std::abs(tau));
-    r.shear_error_gradient = std::max(r.shear_error_gradient, std::abs(tg * e_theta - tau) / std::abs(tau));
+    r.shear_error_consistent =
+        std::max(r.shear_error_consistent, std::abs(tc * e_theta - tau) / std::abs(tau));
+    r.shear_error_gradient =
+        std::max(r.shear_error_gradient, std::abs(tg * e_theta - tau) / std::abs(tau));
   }
   r.cells = static_cast<int>(tria.n_active_cells());
   r.dofs = static_cast<int>(problem.dof_handler().n_dofs());
@@ -95,7 +97,8 @@ namespace {
 // Divergence-free manufactured velocity and its gradient.
 Vec2 mms_u(const Point2& x) {
   const double sx = std::sin(M_PI * x[0]), sy = std::sin(M_PI * x[1]);
-  return Vec2({M_PI * sx * sx * std::sin(2 * M_PI * x[1]), -M_PI * std::sin(2 * M_PI * x[0]) * sy * sy});
+  return Vec2(
+      {M_PI * sx * sx * std::sin(2 * M_PI * x[1]), -M_PI * std::sin(2 * M_PI * x[0]) * sy * sy});
 }
 Grad mms_grad(const Point2& x) {
   const double pi2 = M_PI * M_PI;
@@ -181,8 +184,8 @@ ManufacturedResult manufactured_stokes(int refinement, LinearSolver solver,
                                        SchurApproximation schur) {
   NewtonianViscosity visc(1.0);
   return run_manufactured(
-      refinement, visc, [](const Point2& x) { return std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); },
-      solver, schur);
+      refinement, visc,
+      [](const Point2& x) { return std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); }, solver, schur);
 }
 
 ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params) {
@@ -218,7 +221,9 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
   setup.initial_velocity = [](const Point2& x) {
     return Vec2(mms_u(x) + Vec2({0.5 + 0.2 * x[0] * x[1], 0.1 * x[0]}));
   };
-  setup.initial_pressure = [](const Point2& x) { return 2 + std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); };
+  setup.initial_pressure = [](const Point2& x) {
+    return 2 + std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]);
+  };
   FlowProblem problem(tria, setup);
   problem.setup_system();
   problem.interpolate_initial_guess();
@@ -271,8 +276,12 @@ InclineResult incline_layer(const InclineSpec& s) {
   setup.viscosity = &visc;
   setup.bc.periodic_x.push_back({0, 1});
   setup.bc.dirichlet[2] = [](const Point2&) { return Vec2(); };
-  setup.bc.traction[3] = [=](const Point2&, const Vec2&) { return Vec2({Ptop * std::tan(th), -Ptop}); };
-  setup.body_force = [=](const Point2&) { return Vec2({rho * g * std::sin(th), -rho * g * std::cos(th)}); };
+  setup.bc.traction[3] = [=](const Point2&, const Vec2&) {
+    return Vec2({Ptop * std::tan(th), -Ptop});
+  };
+  setup.body_force = [=](const Point2&) {
+    return Vec2({rho * g * std::sin(th), -rho * g * std::cos(th)});
+  };
   // initial guess: a parabolic profile at half the exact surface speed, lithostatic pressure
   const double us = u_exact(h);
   setup.initial_velocity = [=](const Point2& x) {
@@ -294,7 +303,8 @@ InclineResult incline_layer(const InclineSpec& s) {
     const double z = h * k / 100.0;
     if (!problem.point_state(Point2(dx, z), st)) continue;
     if (k == 100) r.surface_velocity = st.velocity[0];
-    r.max_relative_error = std::max(r.max_relative_error, std::abs(st.velocity[0] - u_exact(z)) / us);
+    r.max_relative_error =
+        std::max(r.max_relative_error, std::abs(st.velocity[0] - u_exact(z)) / us);
   }
   return r;
 }

@@ -141,11 +141,13 @@ TEST(EndToEnd, DemRunWithALidWritesTheLidSeries) {
   const fs::path d = scratch();
   std::ofstream(d / "tiny.toml") << tiny_case;
   std::string out;
-  ASSERT_EQ(run("run " + (d / "tiny.toml").string() +
-                    " --solver dem --quiet --set output.fields=false --set domain.lid_pressure=200.0"
-                    " --out " + (d / "lid").string(),
-                &out),
-            0)
+  ASSERT_EQ(
+      run("run " + (d / "tiny.toml").string() +
+              " --solver dem --quiet --set output.fields=false --set domain.lid_pressure=200.0"
+              " --out " +
+              (d / "lid").string(),
+          &out),
+      0)
       << out;
   const RunResult r = read_result((d / "lid" / "dem.h5").string());
   ASSERT_TRUE(r.lid && r.forces);
@@ -247,8 +249,9 @@ TEST(EndToEnd, ReplicasPoolIndependentBeds) {
   EXPECT_GE(*pooled.means->drag_stderr, between - 1e-12 * std::abs(mean));
   EXPECT_EQ(pooled.means->blocks, 3);
   ASSERT_TRUE(pooled.surface && pooled.surface->sigma_n_stderr && pooled.fields);
-  ASSERT_EQ(run("run " + (d / "tiny.toml").string() + " --solver dem --quiet --set dem.seed=2 --out " +
-                    (d / "seed2").string(), &out),
+  ASSERT_EQ(run("run " + (d / "tiny.toml").string() +
+                    " --solver dem --quiet --set dem.seed=2 --out " + (d / "seed2").string(),
+                &out),
             0)
       << out;
   const RunResult alone = read_result((d / "seed2" / "dem.h5").string());

@@ -64,7 +64,8 @@ field_spacing = 2.0
 struct TempDir {
   fs::path path;
   explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() / ("grainlift_fem_mpi_" + tag + std::to_string(::getpid()))) {
+      : path(fs::temp_directory_path() /
+             ("grainlift_fem_mpi_" + tag + std::to_string(::getpid()))) {
     fs::create_directories(path);
   }
   ~TempDir() { fs::remove_all(path); }
@@ -151,7 +152,8 @@ void expect_two_ranks_match_one(const std::string& tag, const std::string& extra
   const TempDir dir(tag);
   std::string log;
   ASSERT_NO_FATAL_FAILURE(run_one_and_two(
-      dir, " --quiet --set continuum.linear_solver='\"direct\"' --set output.fields=false" + extra, log));
+      dir, " --quiet --set continuum.linear_solver='\"direct\"' --set output.fields=false" + extra,
+      log));
   expect_same_solution(tag, grainlift::read_result((dir.path / "one" / "fem.h5").string()),
                        grainlift::read_result((dir.path / "two" / "fem.h5").string()));
 }
@@ -167,7 +169,8 @@ TEST(FemMpi, TwoRanksGiveTheOneRankSolution) {
   // the ranks solved together (the log says so) and only rank 0 reported
   EXPECT_NE(out2.find("(2 MPI ranks)"), std::string::npos);
   std::size_t reports = 0;
-  for (std::size_t p = out2.find("results:"); p != std::string::npos; p = out2.find("results:", p + 1))
+  for (std::size_t p = out2.find("results:"); p != std::string::npos;
+       p = out2.find("results:", p + 1))
     ++reports;
   EXPECT_EQ(reports, 1u);
 
@@ -185,7 +188,8 @@ TEST(FemMpi, TwoRanksGiveTheOneRankSolution) {
     std::ifstream vtu(dir.path / "two" / "fem_vtu" / "continuum.vtu");
     const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
     std::size_t pieces = 0;
-    for (std::size_t p = text.find("<Piece"); p != std::string::npos; p = text.find("<Piece", p + 1))
+    for (std::size_t p = text.find("<Piece"); p != std::string::npos;
+         p = text.find("<Piece", p + 1))
       ++pieces;
     EXPECT_EQ(pieces, 2u);
     EXPECT_NE(text.find("</VTKFile>"), std::string::npos);

@@ -182,7 +182,8 @@ std::array<double, 2> dem_wall_surfaces(const grainlift::Case& c) {
   const std::vector<grainlift::dem::Disk> walls = grainlift::dem::make_wall_disks(d);
   double bottom = NAN, top = NAN;
   for (const auto& w : walls) {
-    if (w.y < 0.5 * (d.ymin + d.ymax)) bottom = std::isnan(bottom) ? w.y + w.r : std::max(bottom, w.y + w.r);
+    if (w.y < 0.5 * (d.ymin + d.ymax))
+      bottom = std::isnan(bottom) ? w.y + w.r : std::max(bottom, w.y + w.r);
     else top = std::isnan(top) ? w.y - w.r : std::min(top, w.y - w.r);
   }
   return {bottom, top};
@@ -298,16 +299,18 @@ TEST(ContinuumBox, OpenAndSymmetricBoxesAreWhereTheKeysSay) {
 // meshes of the same grading).
 TEST(ContinuumBox, OpenFarFieldForcesDoNotDependOnTheBoxLength) {
   const auto solve = [](const char* length) {
-    const grainlift::Case c = case_file(
-        "cases/demo/demo.toml", {"continuum.far_field=\"open\"", std::string("continuum.open_length=") + length,
-                                 "continuum.refinement=1", "output.fields=false"});
+    const grainlift::Case c =
+        case_file("cases/demo/demo.toml",
+                  {"continuum.far_field=\"open\"", std::string("continuum.open_length=") + length,
+                   "continuum.refinement=1", "output.fields=false"});
     const gc::ContinuumOutput out = gc::solve_flow(gc::make_continuum_config(c, "out"));
     EXPECT_TRUE(out.converged) << out.message;
     return out;
   };
   const gc::ContinuumOutput a = solve("[8.0, 8.0]"), b = solve("[12.0, 12.0]");
-  std::printf("open far field, 8 D / 12 D: drag %.6g / %.6g, lift %.6g / %.6g, torque %.6g / %.6g\n",
-              a.fx, b.fx, a.fy, b.fy, a.torque, b.torque);
+  std::printf(
+      "open far field, 8 D / 12 D: drag %.6g / %.6g, lift %.6g / %.6g, torque %.6g / %.6g\n", a.fx,
+      b.fx, a.fy, b.fy, a.torque, b.torque);
   EXPECT_NEAR(a.fx / b.fx, 1.0, 0.01);
   EXPECT_NEAR(a.fy / b.fy, 1.0, 0.01);
   EXPECT_NEAR(a.torque / b.torque, 1.0, 0.01);

@@ -24,7 +24,8 @@ constexpr double kD = 0.1;     // m
 /// M = 32 angles theta_m = (m + 1/2) 2 pi / M: symmetric pairs theta, -theta are m, M-1-m.
 std::vector<double> angles() {
   std::vector<double> t(32);
-  for (int m = 0; m < 32; ++m) t[std::size_t(m)] = (m + 0.5) * 2 * M_PI / 32 - (m >= 16 ? 2 * M_PI : 0);
+  for (int m = 0; m < 32; ++m)
+    t[std::size_t(m)] = (m + 0.5) * 2 * M_PI / 32 - (m >= 16 ? 2 * M_PI : 0);
   return t;
 }
 

@@ -32,10 +32,12 @@ ContinuumConfig coarse_case() {
 TEST(Cylinder, NoGravityNoSpinHasNoLift) {
   ContinuumConfig c = coarse_case();
   const auto t0 = std::chrono::steady_clock::now();
-  const ContinuumOutput out = solve_flow(c, [](const std::string& s) { std::printf("%s\n", s.c_str()); });
+  const ContinuumOutput out =
+      solve_flow(c, [](const std::string& s) { std::printf("%s\n", s.c_str()); });
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("cylinder: %d cells %d dofs, picard %d newton %d, %.2f s, F = (%.6g, %.6g), T = %.3g\n",
-              out.cells, out.dofs, out.picard_steps, out.newton_steps, secs, out.fx, out.fy, out.torque);
+  std::printf(
+      "cylinder: %d cells %d dofs, picard %d newton %d, %.2f s, F = (%.6g, %.6g), T = %.3g\n",
+      out.cells, out.dofs, out.picard_steps, out.newton_steps, secs, out.fx, out.fy, out.torque);
   ASSERT_TRUE(out.converged) << out.message;
   const double drag = -out.fx, lift = out.fy;  // V along +x
   EXPECT_GT(drag, 0);
@@ -137,8 +139,10 @@ TEST(Cylinder, GravityGivesUpwardLiftAboveBuoyancy) {
   c.gravity = {0, -1.0};  // rho g H = 750 Pa < P0: the pressure stays positive
   const ContinuumOutput out = solve_flow(c);
   ASSERT_TRUE(out.converged) << out.message;
-  const double buoyancy = c.bulk_density * 1.0 * M_PI * c.intruder_diameter * c.intruder_diameter / 4;
-  std::printf("gravity: D = %.5g, L = %.5g = %.2f buoyancies\n", -out.fx, out.fy, out.fy / buoyancy);
+  const double buoyancy =
+      c.bulk_density * 1.0 * M_PI * c.intruder_diameter * c.intruder_diameter / 4;
+  std::printf("gravity: D = %.5g, L = %.5g = %.2f buoyancies\n", -out.fx, out.fy,
+              out.fy / buoyancy);
   EXPECT_GT(out.fy, buoyancy);
 }
 
@@ -157,9 +161,10 @@ TEST(Cylinder, FrictionlessWallTransmitsNoTorque) {
   EXPECT_LT(std::abs(out.fy), 1e-6 * drag);
 }
 
-// Sampled fields (point values at the bin centres): NaN inside the intruder and outside the box, the far-field velocity -V on the
-// inflow boundary (to 1e-9 m/s), the lithostatic normal stress on the outflow boundary (to 10%
-// of P0 pointwise: the traction is imposed weakly and this mesh is the coarsest), a VTU file.
+// Sampled fields (point values at the bin centres): NaN inside the intruder and outside the box,
+// the far-field velocity -V on the inflow boundary (to 1e-9 m/s), the lithostatic normal stress on
+// the outflow boundary (to 10% of P0 pointwise: the traction is imposed weakly and this mesh is the
+// coarsest), a VTU file.
 TEST(Cylinder, SampledFieldsAndVtu) {
   ContinuumConfig c = coarse_case();
   c.refinement = 0;

@@ -70,9 +70,10 @@ TEST(MuIFlow, ManufacturedSolutionRates) {
 TEST(MuIFlow, InclineBagnoldProfile) {
   InclineSpec spec;
   const InclineResult r = incline_layer(spec);
-  std::printf("Incline: surface velocity %.6g (exact %.6g), max rel error %.2e, picard %d newton %d\n",
-              r.surface_velocity, r.surface_velocity_exact, r.max_relative_error, r.picard_steps,
-              r.newton_steps);
+  std::printf(
+      "Incline: surface velocity %.6g (exact %.6g), max rel error %.2e, picard %d newton %d\n",
+      r.surface_velocity, r.surface_velocity_exact, r.max_relative_error, r.picard_steps,
+      r.newton_steps);
   EXPECT_TRUE(r.converged);
   EXPECT_LT(r.max_relative_error, 0.01);
 }

@@ -79,7 +79,8 @@ TEST(MuIRheology, DerivativesMatchFiniteDifferences) {
         const double hs = 1e-6 * s, hp = 1e-6 * p;
         const double fd_s = (eval(m, s + hs, p).eta - eval(m, s - hs, p).eta) / (2 * hs);
         const double fd_p = (eval(m, s, p + hp).eta - eval(m, s, p - hp).eta) / (2 * hp);
-        EXPECT_NEAR(e.eta_s, fd_s, 1e-6 * std::abs(fd_s) + 1e-12 * e.eta / s) << "s=" << s << " p=" << p;
+        EXPECT_NEAR(e.eta_s, fd_s, 1e-6 * std::abs(fd_s) + 1e-12 * e.eta / s)
+            << "s=" << s << " p=" << p;
         EXPECT_NEAR(e.eta_p, fd_p, 1e-6 * std::abs(fd_p) + 1e-12) << "s=" << s << " p=" << p;
       }
   }
@@ -94,7 +95,8 @@ TEST(MuIRheology, BarkerGrayBranchIsC1AndVanishesAtZero) {
   MuIRheology m(prm);
   const double IN = prm.barker_gray_IN, e = 1e-9;
   EXPECT_NEAR(m.friction(IN * (1 - e)), m.friction(IN * (1 + e)), 1e-9);
-  EXPECT_NEAR(m.dfriction_dI(IN * (1 - e)), m.dfriction_dI(IN * (1 + e)), 1e-6 * m.dfriction_dI(IN));
+  EXPECT_NEAR(m.dfriction_dI(IN * (1 - e)), m.dfriction_dI(IN * (1 + e)),
+              1e-6 * m.dfriction_dI(IN));
   EXPECT_LT(m.friction(1e-300), 0.1);
   EXPECT_GT(m.friction(1e-6), 0);
 }

@@ -24,8 +24,11 @@ TEST(NewtonianFlow, RotatingCylinderCouetteTorque) {
   RecordProperty("torque_exact", std::to_string(r.torque_exact));
   RecordProperty("torque_reaction_rel_error", std::to_string(rel_reaction));
   RecordProperty("torque_surface_rel_error", std::to_string(rel_surface));
-  std::printf("Couette: exact %.8g  reaction %.8g (rel %.2e)  surface %.8g (rel %.2e)  cells %d  u L2 err %.3e\n",
-              r.torque_exact, r.torque_reaction, rel_reaction, r.torque_surface, rel_surface, r.cells, r.velocity_l2_error);
+  std::printf(
+      "Couette: exact %.8g  reaction %.8g (rel %.2e)  surface %.8g (rel %.2e)  cells %d  u L2 err "
+      "%.3e\n",
+      r.torque_exact, r.torque_reaction, rel_reaction, r.torque_surface, rel_surface, r.cells,
+      r.velocity_l2_error);
   EXPECT_LT(rel_reaction, 1e-4);
   EXPECT_LT(rel_surface, 3e-2);
   EXPECT_LT(std::hypot(r.fx, r.fy) * 0.05, 1e-8 * std::abs(r.torque_exact));

@@ -101,7 +101,8 @@ TEST(Cli, CompareJsonReportsKnownDifferences) {
   const fs::path d = scratch();
   write_result((d / "a.h5").string(), make(10, 0));
   write_result((d / "b.h5").string(), make(12, 5));
-  const Outcome o = run("compare " + (d / "a.h5").string() + " " + (d / "b.h5").string() + " --json");
+  const Outcome o =
+      run("compare " + (d / "a.h5").string() + " " + (d / "b.h5").string() + " --json");
   ASSERT_EQ(o.code, 0) << o.output;
   auto value = [&](const std::string& key) {
     const auto p = o.output.find("\"" + key + "\": ");

@@ -94,7 +94,8 @@ TEST(RunDriver, WritesFilesAndSummaryWithStableNames) {
 }
 
 TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
-  const fs::path out = fs::temp_directory_path() / ("grainlift_driver2_" + std::to_string(getpid()));
+  const fs::path out =
+      fs::temp_directory_path() / ("grainlift_driver2_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml");
   RunOptions opt;
   opt.out_dir = out.string();
@@ -110,7 +111,8 @@ TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
 }
 
 TEST(RunDriver, SolversThatFinishedAreSummarisedWhenALaterOneFails) {
-  const fs::path out = fs::temp_directory_path() / ("grainlift_driver3_" + std::to_string(getpid()));
+  const fs::path out =
+      fs::temp_directory_path() / ("grainlift_driver3_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml");
   RunOptions opt;
   opt.out_dir = out.string();

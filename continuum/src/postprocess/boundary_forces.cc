@@ -13,10 +13,12 @@ namespace grainlift::continuum::internal {
 
 using namespace dealii;
 
-std::map<types::global_dof_index, double> FlowProblem::boundary_reaction(types::boundary_id id) const {
+std::map<types::global_dof_index, double> FlowProblem::boundary_reaction(
+    types::boundary_id id) const {
   VectorType r;
   assemble_impl(ghosted(solution_), nullptr, false, r, true);
-  const IndexSet bd = DoFTools::extract_boundary_dofs(dof_handler_, fe_.component_mask(kVelocity), {id});
+  const IndexSet bd =
+      DoFTools::extract_boundary_dofs(dof_handler_, fe_.component_mask(kVelocity), {id});
   std::map<types::global_dof_index, double> out;
   // the medium's force on the body is minus the residual tested with a rigid motion
   for (const auto i : bd)
@@ -28,8 +30,8 @@ ForceTorque FlowProblem::reaction(types::boundary_id id, const Point2& centre) c
   const auto f_nodal = boundary_reaction(id);
   std::map<types::global_dof_index, Point<dim>> support;
   DoFTools::map_dofs_to_support_points(mapping_, dof_handler_, support);
-  const IndexSet x_dofs = DoFTools::extract_dofs(dof_handler_, fe_.component_mask(
-                                                                     FEValuesExtractors::Scalar(0)));
+  const IndexSet x_dofs =
+      DoFTools::extract_dofs(dof_handler_, fe_.component_mask(FEValuesExtractors::Scalar(0)));
   ForceTorque ft;
   for (const auto& [i, f] : f_nodal) {
     const unsigned int c = x_dofs.is_element(i) ? 0 : 1;

@@ -14,14 +14,14 @@ namespace grainlift::continuum::internal {
 
 using namespace dealii;
 
-std::array<double, 3> FlowProblem::errors(const VectorField& u_exact,
-                                          const std::function<Tensor<2, dim>(const Point2&)>& grad_exact,
-                                          const ScalarField& p_exact,
-                                          bool remove_mean_pressure) const {
+std::array<double, 3> FlowProblem::errors(
+    const VectorField& u_exact, const std::function<Tensor<2, dim>(const Point2&)>& grad_exact,
+    const ScalarField& p_exact, bool remove_mean_pressure) const {
   const VectorType state = ghosted(solution_);
   const QGauss<dim> quad(5);
-  FEValues<dim> fev(mapping_, fe_, quad,
-                    update_values | update_gradients | update_quadrature_points | update_JxW_values);
+  FEValues<dim> fev(
+      mapping_, fe_, quad,
+      update_values | update_gradients | update_quadrature_points | update_JxW_values);
   std::vector<Vec2> u(quad.size());
   std::vector<Tensor<2, dim>> g(quad.size());
   std::vector<double> p(quad.size());

@@ -27,9 +27,9 @@ double wrap_angle(double a) {
 }
 }  // namespace
 
-int FlowProblem::visit_boundary_at_angle(types::boundary_id id, const Point2& centre, double angle,
-                                         UpdateFlags flags, const char* who,
-                                         const std::function<void(const FEFaceValues<dim>&)>& visit) const {
+int FlowProblem::visit_boundary_at_angle(
+    types::boundary_id id, const Point2& centre, double angle, UpdateFlags flags, const char* who,
+    const std::function<void(const FEFaceValues<dim>&)>& visit) const {
   int found = 0;
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
@@ -70,17 +70,27 @@ PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& cent
   std::vector<SymmetricTensor<2, dim>> sym(1);
   std::vector<double> p(1);
   std::vector<Vec2> u(1);
-  visit_boundary_at_angle(id, centre, angle, flags, "boundary_state", [&](const FEFaceValues<dim>& ffv) {
-    ffv[kVelocity].get_function_symmetric_gradients(state, sym);
-    ffv[kPressure].get_function_values(state, p);
-    ffv[kVelocity].get_function_values(state, u);
-    const PointState st = make_state(sym[0], p[0], u[0]);
-    const double v[13] = {st.stress[0][0], st.stress[0][1], st.stress[1][1], u[0][0], u[0][1],
-                          ffv.normal_vector(0)[0], ffv.normal_vector(0)[1],
-                          ffv.quadrature_point(0)[0], ffv.quadrature_point(0)[1], p[0],
-                          st.viscosity, st.inertial_number, 1.0};
-    for (unsigned int k = 0; k < 13; ++k) sums[k] += v[k];
-  });
+  visit_boundary_at_angle(id, centre, angle, flags, "boundary_state",
+                          [&](const FEFaceValues<dim>& ffv) {
+                            ffv[kVelocity].get_function_symmetric_gradients(state, sym);
+                            ffv[kPressure].get_function_values(state, p);
+                            ffv[kVelocity].get_function_values(state, u);
+                            const PointState st = make_state(sym[0], p[0], u[0]);
+                            const double v[13] = {st.stress[0][0],
+                                                  st.stress[0][1],
+                                                  st.stress[1][1],
+                                                  u[0][0],
+                                                  u[0][1],
+                                                  ffv.normal_vector(0)[0],
+                                                  ffv.normal_vector(0)[1],
+                                                  ffv.quadrature_point(0)[0],
+                                                  ffv.quadrature_point(0)[1],
+                                                  p[0],
+                                                  st.viscosity,
+                                                  st.inertial_number,
+                                                  1.0};
+                            for (unsigned int k = 0; k < 13; ++k) sums[k] += v[k];
+                          });
   sums = sum_over_ranks(sums, comm_);
   const double found = sums[12];
   const Vec2 n_sum({sums[5], sums[6]});
@@ -117,7 +127,8 @@ Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centr
           reaction_all.emplace(all_keys[r][k], all_values[r][k]);
     }
     std::map<types::global_dof_index, unsigned int> local;
-    for (const auto& [g, v] : reaction_all) local.emplace(g, static_cast<unsigned int>(local.size()));
+    for (const auto& [g, v] : reaction_all)
+      local.emplace(g, static_cast<unsigned int>(local.size()));
     const unsigned int nb = static_cast<unsigned int>(local.size());
     // boundary mass matrix (vector-valued, so the two components decouple): the entries of
     // this rank's faces, then of all ranks, assembled and solved on every rank (it is small)
@@ -141,7 +152,8 @@ Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centr
                 if (!local.count(idx[j])) continue;
                 rows.push_back(idx[i]);
                 cols.push_back(idx[j]);
-                entries.push_back(ffv[kVelocity].value(i, q) * ffv[kVelocity].value(j, q) * ffv.JxW(q));
+                entries.push_back(ffv[kVelocity].value(i, q) * ffv[kVelocity].value(j, q) *
+                                  ffv.JxW(q));
               }
             }
         }
@@ -161,7 +173,8 @@ Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centr
       for (std::size_t k = 0; k < all_rows[r].size(); ++k)
         mass.add(local.at(all_rows[r][k]), local.at(all_cols[r][k]), all_entries[r][k]);
     Vector<double> rhs(nb);
-    for (const auto& [g, l] : local) rhs(l) = reaction_all.at(g);  // force of the medium on the body
+    for (const auto& [g, l] : local)
+      rhs(l) = reaction_all.at(g);  // force of the medium on the body
     SparseDirectUMFPACK direct;
     direct.initialize(mass);
     direct.solve(rhs);
@@ -173,20 +186,20 @@ Vec2 FlowProblem::consistent_traction(types::boundary_id id, const Point2& centr
   std::vector<double> sums(3, 0.0);  // t_x, t_y, count
   const unsigned int dpc = fe_.n_dofs_per_cell();
   std::vector<types::global_dof_index> idx(dpc);
-  visit_boundary_at_angle(id, centre, angle, update_values, "consistent_traction",
-                          [&](const FEFaceValues<dim>& ffv) {
-                            const DoFHandler<dim>::active_cell_iterator cell(
-                                &tria_, ffv.get_cell()->level(), ffv.get_cell()->index(), &dof_handler_);
-                            cell->get_dof_indices(idx);
-                            Vec2 t;
-                            for (unsigned int i = 0; i < dpc; ++i) {
-                              const auto it = traction_.find(idx[i]);
-                              if (it != traction_.end()) t += it->second * ffv[kVelocity].value(i, 0);
-                            }
-                            sums[0] += t[0];
-                            sums[1] += t[1];
-                            sums[2] += 1;
-                          });
+  visit_boundary_at_angle(
+      id, centre, angle, update_values, "consistent_traction", [&](const FEFaceValues<dim>& ffv) {
+        const DoFHandler<dim>::active_cell_iterator cell(&tria_, ffv.get_cell()->level(),
+                                                         ffv.get_cell()->index(), &dof_handler_);
+        cell->get_dof_indices(idx);
+        Vec2 t;
+        for (unsigned int i = 0; i < dpc; ++i) {
+          const auto it = traction_.find(idx[i]);
+          if (it != traction_.end()) t += it->second * ffv[kVelocity].value(i, 0);
+        }
+        sums[0] += t[0];
+        sums[1] += t[1];
+        sums[2] += 1;
+      });
   sums = sum_over_ranks(sums, comm_);
   return Vec2({sums[0] / sums[2], sums[1] / sums[2]});
 }

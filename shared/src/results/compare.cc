@@ -120,7 +120,8 @@ Comparison compare_results(const RunResult& a, const RunResult& b) {
       c.pressure_scale = b.geometry.pressure_scale;
       c.pressure_scale_from = "B: geometry.pressure_scale";
     } else {
-      for (double s : a.surface->sigma_n) c.pressure_scale = std::max(c.pressure_scale, std::abs(s));
+      for (double s : a.surface->sigma_n)
+        c.pressure_scale = std::max(c.pressure_scale, std::abs(s));
       c.pressure_scale_from = "A: max |sigma_n|";
     }
     const double P = c.pressure_scale > 0 ? c.pressure_scale : 1.0;

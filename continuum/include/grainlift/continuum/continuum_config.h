@@ -11,7 +11,8 @@
 namespace grainlift::continuum {
 
 enum class Regularisation {
-  chauchat_medale,  ///< eta = mu(I) p / (2 sqrt(|D|^2 + delta^2)), capped at eta_max (Chauchat & Medale, JCP 2014)
+  chauchat_medale,  ///< eta = mu(I) p / (2 sqrt(|D|^2 + delta^2)), capped at eta_max (Chauchat &
+                    ///< Medale, JCP 2014)
   barker_gray       ///< partial regularisation of Barker & Gray (JFM 2017) for low I
 };
 enum class WallCondition { no_slip, coulomb };
@@ -32,13 +33,16 @@ enum class FarField {
 /// the weight of the bed above the intruder).
 enum class TopEdge { wall, free_surface };
 enum class InertiaMode { off, on, automatic };
-/// direct: MUMPS (Trilinos Amesos) on the whole saddle-point matrix. amg: FGMRES with a block upper-triangular
-/// preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure mass matrix).
+/// direct: MUMPS (Trilinos Amesos) on the whole saddle-point matrix. amg: FGMRES with a block
+/// upper-triangular preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure
+/// mass matrix).
 enum class LinearSolver { direct, amg };
 /// Schur complement approximation S ~ B A^{-1} B^T of the amg preconditioner.
 enum class SchurApproximation {
-  diagonal_a,      ///< B diag(A)^{-1} B^T, one AMG V-cycle (default: robust to the eta_min/eta_max contrast)
-  viscosity_mass   ///< pressure mass matrix weighted by 1/eta, lumped (fails when eta spans many decades)
+  diagonal_a,     ///< B diag(A)^{-1} B^T, one AMG V-cycle (default: robust to the eta_min/eta_max
+                  ///< contrast)
+  viscosity_mass  ///< pressure mass matrix weighted by 1/eta, lumped (fails when eta spans many
+                  ///< decades)
 };
 
 struct RheologyParams {
@@ -49,7 +53,7 @@ struct RheologyParams {
   double delta = 1e-3;              ///< 1/s, strain-rate regularisation
   double eta_max = 1e4;             ///< Pa s, viscosity cap
   // ---- added by the continuum engine (defaults keep the previous behaviour)
-  double eta_min = 1e-6;            ///< Pa s, viscosity floor (where p <= 0 the mu(I) viscosity vanishes)
+  double eta_min = 1e-6;  ///< Pa s, viscosity floor (where p <= 0 the mu(I) viscosity vanishes)
   /// I_N of Barker & Gray 2017: below it mu(I) = sqrt(alpha / ln(A / I)), with alpha and A set so
   /// that mu and dmu/dI are continuous at I_N. Used only with Regularisation::barker_gray.
   /// Must lie inside the range where Jop's mu(I) is well posed (well_posed_range()); 0 picks
@@ -72,7 +76,7 @@ struct ContinuumOutput;
 struct ContinuumConfig {
   // ---- geometry (intruder frame: intruder centred at the origin)
   double intruder_diameter = 0.1;   ///< m
-  double half_width = 1.0;          ///< m, box is [-half_width, half_width] x [-half_height, half_height]
+  double half_width = 1.0;  ///< m, box is [-half_width, half_width] x [-half_height, half_height]
   double half_height = 1.0;         ///< m
   FarField far_field = FarField::symmetric_box;
   /// periodic and open boxes: the edges relative to the intruder's centre (m), box_left < -R,
@@ -80,7 +84,8 @@ struct ContinuumConfig {
   double box_left = -1, box_right = 1, box_bottom = -1, box_top = 1;
   TopEdge top = TopEdge::wall;
   // ---- kinematics (lab frame)
-  std::array<double, 2> intruder_velocity{1, 0};  ///< m/s; far field moves at -V in the intruder frame
+  std::array<double, 2> intruder_velocity{1,
+                                          0};  ///< m/s; far field moves at -V in the intruder frame
   double intruder_omega = 0;                      ///< rad/s, counter-clockwise positive
   // ---- body force and pressure
   std::array<double, 2> gravity{0, 0};  ///< m/s^2
@@ -153,8 +158,9 @@ struct LevelResult {
 };
 
 struct ContinuumOutput {
-  double fx = 0, fy = 0, torque = 0;      ///< N/m, N: force and torque of the medium on the intruder
-  std::vector<double> sigma_n, sigma_t;   ///< Pa at surface_theta; sigma_n > 0 compressive, sigma_t > 0 ccw
+  double fx = 0, fy = 0, torque = 0;  ///< N/m, N: force and torque of the medium on the intruder
+  std::vector<double> sigma_n,
+      sigma_t;  ///< Pa at surface_theta; sigma_n > 0 compressive, sigma_t > 0 ccw
   // fields on the grid, row-major [j * nx + i]; NaN inside the intruder or outside the mesh
   std::vector<double> vx, vy, pressure, sxx, sxy, syy;
   int nonlinear_iterations = 0;
@@ -165,17 +171,19 @@ struct ContinuumOutput {
   // ---- added by the continuum engine
   int picard_steps = 0, newton_steps = 0;  ///< split of nonlinear_iterations
   double initial_residual = 0;            ///< |R_0| (final_residual is |R_k| / |R_0|)
-  long krylov_iterations = 0;             ///< FGMRES iterations over all linear solves (amg; 0 for direct)
+  long krylov_iterations = 0;  ///< FGMRES iterations over all linear solves (amg; 0 for direct)
   /// direct solves: the largest relative linear residual |A x - b| / |b| left (0 for amg)
   double worst_direct_residual = 0;
   bool inertia_used = false;              ///< whether rho (u.grad)u was included
-  double correction_seconds = 0;          ///< linearised gravity: time of the correction (setup + one solve)
+  double correction_seconds =
+      0;  ///< linearised gravity: time of the correction (setup + one solve)
   int continuation_splits = 0;            ///< intermediate stages inserted after a failed stage
   /// share of the medium's area sheared beyond the regularisation (|D| > 5 delta), and the part
   /// of it where mu(I) is ill posed at the local I (Barker et al. 2015): there the solution
   /// depends on the mesh (docs/continuum-model.md)
   double sheared_share = 0, ill_posed_share = 0;
-  double force_fx_surface = 0, force_fy_surface = 0, torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
+  double force_fx_surface = 0, force_fy_surface = 0,
+         torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
   /// |R_k| / |R_0| after each nonlinear step, all continuation stages and adaptive cycles
   /// concatenated in order (|R_0| the residual of the initial guess)
   std::vector<double> residual_history;

@@ -9,7 +9,8 @@ namespace grainlift::continuum::verification {
 
 /// Result of the rotating cylinder in a Newtonian annulus (circular Couette flow).
 struct CouetteResult {
-  double torque_reaction = 0;  ///< N, torque of the fluid on the inner cylinder (consistent reaction)
+  double torque_reaction =
+      0;  ///< N, torque of the fluid on the inner cylinder (consistent reaction)
   double torque_surface = 0;   ///< N, same by integrating sigma.n over the cylinder
   double torque_exact = 0;     ///< N, -4 pi eta omega R1^2 R2^2 / (R2^2 - R1^2)
   double fx = 0, fy = 0;       ///< N/m, net force on the inner cylinder (exactly 0)

@@ -1,7 +1,7 @@
 // `grainlift calibrate`: the mu(I) and Phi(I) of a case's grains, measured in the DEM
 // simple-shear cell (dem/include/grainlift/dem/shear_cell.h) at imposed pressure and fitted
-// (shared/include/grainlift/shared/rheology/rheology_fit.h), for the continuum to use the DEM's material
-// (continuum.rheology_file).
+// (shared/include/grainlift/shared/rheology/rheology_fit.h), for the continuum to use the DEM's
+// material (continuum.rheology_file).
 #pragma once
 
 #include <functional>

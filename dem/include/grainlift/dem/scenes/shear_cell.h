@@ -14,8 +14,8 @@
 namespace grainlift::dem {
 
 /// A window mean and its standard error (same units as the series): the block mean of
-/// shared/include/grainlift/shared/statistics/statistics.h (the first samples left over dropped) with its
-/// correlation-corrected error (stderr_corrected).
+/// shared/include/grainlift/shared/statistics/statistics.h (the first samples left over dropped)
+/// with its correlation-corrected error (stderr_corrected).
 struct MeanError {
   double mean = 0;
   double se = 0;  ///< standard error of the mean

@@ -26,7 +26,8 @@ struct DomainSection {
   Vec2 x_range{}, y_range{};  ///< m
   std::array<bool, 2> periodic{};
   bool wall_bottom{}, wall_top{}, wall_left{}, wall_right{};
-  double lid_pressure{};  ///< Pa (2D reading), confining pressure on the top-wall lid; 0 = fixed wall
+  double
+      lid_pressure{};  ///< Pa (2D reading), confining pressure on the top-wall lid; 0 = fixed wall
   std::string lid;        ///< "rigid" | "free_disks" (DEM)
 };
 
@@ -81,7 +82,7 @@ struct DemSection {
 struct ContinuumSection {
   double ambient_pressure{};  ///< Pa, P0 at the intruder centre on top of the lithostatic part
   double mu_s{}, mu_2{}, I0{};   ///< from rheology_file when it names one
-  std::string rheology_file;     ///< "" or the calibrated law's file, resolved from the case's folder
+  std::string rheology_file;  ///< "" or the calibrated law's file, resolved from the case's folder
   /// Where mu_s, mu_2, I0 came from: "case" (the case names them), "rheology file"
   /// (continuum.rheology_file), "calibration cache" (rheology_cache.h) or "default" (the key
   /// registry's Jop et al. 2006 glass beads).

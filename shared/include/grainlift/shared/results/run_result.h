@@ -90,7 +90,8 @@ struct FarFieldSeries {
 struct SurfaceDistribution {
   std::vector<double> theta;      ///< rad
   std::vector<double> sigma_n;    ///< Pa, compressive positive
-  std::vector<double> sigma_t;    ///< Pa, positive when the medium pulls the surface counter-clockwise
+  std::vector<double>
+      sigma_t;  ///< Pa, positive when the medium pulls the surface counter-clockwise
   double kernel_width_deg = 0;    ///< Gaussian standard deviation (deg), output.kernel_width_deg
   /// The continuum's pointwise trace at theta before the kernel (Pa); absent for the DEM,
   /// whose surface stress exists only as the kernel average of its contacts.
