@@ -9,6 +9,7 @@ tracked files of the source tree:
 Exit 0 when all hold; otherwise each offender is printed with its file and line, exit 1.
 Usage: check_layout.py SOURCE_DIR
 """
+import os
 import re
 import subprocess
 import sys
@@ -20,9 +21,17 @@ CODE_EXT = (".cc", ".h", ".py", ".sh", ".cmake")
 
 
 def tracked(root):
-    out = subprocess.run(["git", "-C", root, "ls-files"], capture_output=True, text=True,
-                         check=True).stdout
-    return [f for f in out.split("\n") if f]
+    """The files git tracks, or every file under root outside build folders without git."""
+    try:
+        out = subprocess.run(["git", "-C", root, "ls-files"], capture_output=True, text=True,
+                             check=True).stdout
+        return [f for f in out.split("\n") if f]
+    except (OSError, subprocess.CalledProcessError):
+        found = []
+        for d, dirs, files in os.walk(root):
+            dirs[:] = [x for x in dirs if not x.startswith((".", "build", "out", "runs"))]
+            found += [os.path.relpath(os.path.join(d, f), root) for f in files]
+        return found
 
 
 def is_code(path):
