@@ -32,16 +32,24 @@ mkdir -p "$WORK"
 # to the scheduler, about one short two-thread run in two started with both threads on one
 # core and stayed there (half the rate for the whole run; docs/performance.md)
 export OMP_PROC_BIND=${OMP_PROC_BIND:-true} OMP_PLACES=${OMP_PLACES:-cores}
-if [[ ${SAME_STEPS:-1} == 1 ]]; then export GRAINLIFT_BENCH_STEPS=$STEPS; else unset GRAINLIFT_BENCH_STEPS; fi
+if [[ ${SAME_STEPS:-1} == 1 ]]; then
+  export GRAINLIFT_BENCH_STEPS=$STEPS
+else
+  unset GRAINLIFT_BENCH_STEPS
+fi
 
 declare -A BM=([dense]=BM_DenseBed [dilute]=BM_DiluteBed [jammed]=BM_JammedBed)
 declare -A PHI=([dense]=0.82 [dilute]=0.35 [jammed]=0.86)
 
-median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
+median() {
+  sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'
+}
 
-echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  build: $BUILD  grainlift timed steps: ${GRAINLIFT_BENCH_STEPS:->= 3 s}"
+echo "# $(date -u +%FT%TZ)  $(nproc) cores " "load: $(cut -d' ' -f1-3 /proc/loadavg) " \
+  "build: $BUILD " "grainlift timed steps: ${GRAINLIFT_BENCH_STEPS:->= 3 s}"
 echo "# M grain-steps/s: wall = per second of wall time, cpu = per CPU-second"
-printf '%-7s %3s | %9s %9s | %9s %9s | %10s %10s\n' bed thr "gl wall" "gl cpu" "lmp wall" "lmp cpu" "ratio wall" "ratio cpu"
+printf '%-7s %3s | %9s %9s | %9s %9s | %10s %10s\n' bed thr "gl wall" "gl cpu" "lmp wall" \
+  "lmp cpu" "ratio wall" "ratio cpu"
 for bed in $BEDS; do
   data="$WORK/$bed.data"
   [[ -s "$data" ]] || "$BUILD/bin/dem_export_lammps_bed" "${PHI[$bed]}" "$data" >/dev/null
@@ -50,7 +58,8 @@ for bed in $BEDS; do
     gw=() gc=() lw=() lc=()
     for ((r = 0; r < REPS; ++r)); do
       sleep "${PAUSE:-1}"
-      json=$("$BUILD/bin/dem_throughput" --benchmark_filter="^${BM[$bed]}/$t/" --benchmark_format=json 2>/dev/null)
+      json=$("$BUILD/bin/dem_throughput" --benchmark_filter="^${BM[$bed]}/$t/" \
+               --benchmark_format=json 2>/dev/null)
       read -r w c < <(python3 -c '
 import json, sys
 b = json.load(sys.stdin)["benchmarks"][0]
@@ -59,7 +68,8 @@ print(g * 100 / (b["real_time"] * 1e-3), g * 100 / (b["cpu_time"] * 1e-3))' <<<"
       gw+=("$w") gc+=("$c")
       sleep "${PAUSE:-1}"
       if [[ $t == 1 ]]; then
-        out=$(cd "$WORK" && lmp -log none -in "$HERE/lammps/bed.in" -var data "$data" -var steps "$STEPS")
+        out=$(cd "$WORK" && lmp -log none -in "$HERE/lammps/bed.in" -var data "$data" \
+              -var steps "$STEPS")
       else
         out=$(cd "$WORK" && mpirun --allow-run-as-root --bind-to core -np "$t" lmp -log none \
               -in "$HERE/lammps/bed.in" -var data "$data" -var steps "$STEPS")
@@ -67,12 +77,14 @@ print(g * 100 / (b["real_time"] * 1e-3), g * 100 / (b["cpu_time"] * 1e-3))' <<<"
       lt=$(grep 'Loop time' <<<"$out" | tail -1 | awk '{print $4}')
       cpu=$(grep '% CPU use' <<<"$out" | tail -1 | awk '{sub("%", "", $1); print $1}')
       lw+=("$(awk -v g="$grains" -v s="$STEPS" -v t="$lt" 'BEGIN {print g * s / t}')")
-      lc+=("$(awk -v g="$grains" -v s="$STEPS" -v t="$lt" -v c="$cpu" -v n="$t" 'BEGIN {print g * s / (t * c / 100 * n)}')")
+      lc+=("$(awk -v g="$grains" -v s="$STEPS" -v t="$lt" -v c="$cpu" -v n="$t" \
+                'BEGIN {print g * s / (t * c / 100 * n)}')")
     done
     a=$(printf '%s\n' "${gw[@]}" | median); b=$(printf '%s\n' "${gc[@]}" | median)
     c=$(printf '%s\n' "${lw[@]}" | median); d=$(printf '%s\n' "${lc[@]}" | median)
     awk -v bed="$bed" -v t="$t" -v a="$a" -v b="$b" -v c="$c" -v d="$d" 'BEGIN {
-      printf "%-7s %3d | %9.1f %9.1f | %9.1f %9.1f | %9.2fx %9.2fx\n", bed, t, a / 1e6, b / 1e6, c / 1e6, d / 1e6, a / c, b / d }'
+      printf "%-7s %3d | %9.1f %9.1f | %9.1f %9.1f | %9.2fx %9.2fx\n", bed, t, a / 1e6, b / 1e6,
+             c / 1e6, d / 1e6, a / c, b / d }'
   done
 done
 echo "# load after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -44,10 +44,15 @@ getvar() { awk -v n="$1" '$1 == "-var" && $2 == n {print $3}' <<<"$export_out"; 
 steps=$(getvar steps)
 bed_note=$(grep -o 'grains [0-9]* (walls [0-9]*), area fraction [0-9.]*' <<<"$export_out")
 
-median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
+median() {
+  sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'
+}
 now() { date +%s.%N; }
+# the solver's own wall time from a summary.json
+wall_py='import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])'
 
-echo "# $(date -u +%FT%TZ)  $CORES cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  build: $BUILD  reps: $REPS"
+echo "# $(date -u +%FT%TZ)  $CORES cores  load: $(cut -d' ' -f1-3 /proc/loadavg) " \
+  "build: $BUILD  reps: $REPS"
 echo "# case: $CASE  --set: $SETS"
 echo "# $steps steps of dt $(getvar dt) s; exported bed: $bed_note"
 gw=() gi=() lw=() li=()
@@ -59,8 +64,7 @@ for ((r = 0; r < REPS; ++r)); do
     --out "$WORK/grainlift" --quiet >"$WORK/grainlift.log" 2>&1
   t1=$(now)
   gw+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN {print b - a}')")
-  gi+=("$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' \
-          "$WORK/grainlift/summary.json")")
+  gi+=("$(python3 -c "$wall_py" "$WORK/grainlift/summary.json")")
 
   sleep "${PAUSE:-1}"
   t0=$(now)
@@ -79,8 +83,11 @@ awk -v s="$steps" -v a="$a" -v b="$b" -v c="$c" -v d="$d" 'BEGIN {
   printf "%-10s | %8.2fx %9s | %8.2fx\n", "lmp/gl", c / a, "", d / b }'
 echo "# inner: grainlift summary.json wall_seconds (solver only), LAMMPS Loop time"
 # each repetition runs the two codes back to back: their ratio sees the same state of the host
-paired=$(for ((r = 0; r < REPS; ++r)); do awk -v a="${gw[r]}" -v c="${lw[r]}" 'BEGIN {print c / a}'; done)
-echo "# paired wall ratios lmp/gl: $(echo "$paired" | awk '{printf "%.2f ", $1}')-> median $(echo "$paired" | median | awk '{printf "%.2fx", $1}')"
+paired=$(for ((r = 0; r < REPS; ++r)); do
+  awk -v a="${gw[r]}" -v c="${lw[r]}" 'BEGIN {print c / a}'
+done)
+echo "# paired wall ratios lmp/gl: $(echo "$paired" | awk '{printf "%.2f ", $1}')->" \
+  "median $(echo "$paired" | median | awk '{printf "%.2fx", $1}')"
 
 # physics check: the means after the steady start, LAMMPS's samples averaged as grainlift does
 python3 - "$WORK/grainlift/summary.json" "$WORK/lammps_forces.txt" "$(getvar t_steady)" \
@@ -105,21 +112,26 @@ def block_mean(x):  # blocks of equal length, the first n mod B samples left out
     se = math.sqrt(sum((q - mu) ** 2 for q in m) / (B - 1) / B) if B > 1 else float("nan")
     return mu, se
 
-print(f"# means after t >= {t_steady:g} s (the steady start): force on the intruder, drag = -F.V/|V|,"
+print(f"# means after t >= {t_steady:g} s (the steady start): force on the intruder, "
+      "drag = -F.V/|V|,"
       f" lift = F_y in the frame of V, N/m; torque N; +- block standard error ({blocks} blocks)")
 print(f"{'code':<10} | {'drag':>18} | {'lift':>18} | {'torque':>20} | samples")
 print(f"{'grainlift':<10} | {g['drag']:8.4g} +- {g['drag_stderr']:<6.2g} | {g['lift']:8.4g} +- "
-      f"{g['lift_stderr']:<6.2g} | {g['torque']:9.4g} +- {g['torque_stderr']:<7.2g} | {g['samples']}")
+      f"{g['lift_stderr']:<6.2g} | {g['torque']:9.4g} +- {g['torque_stderr']:<7.2g} | "
+      f"{g['samples']}")
 (d, sd), (l, sl), (q, sq) = block_mean(drag), block_mean(lift), block_mean(torque)
 n = len(drag) // max(1, min(blocks, len(drag))) * max(1, min(blocks, len(drag)))
-print(f"{'lammps':<10} | {d:8.4g} +- {sd:<6.2g} | {l:8.4g} +- {sl:<6.2g} | {q:9.4g} +- {sq:<7.2g} | {n}")
+print(f"{'lammps':<10} | {d:8.4g} +- {sd:<6.2g} | {l:8.4g} +- {sl:<6.2g} | "
+      f"{q:9.4g} +- {sq:<7.2g} | {n}")
 def ratio(a, b):
     return f"{a / b:.3f}x" if b != 0 else "n/a"
-print(f"{'lmp/gl':<10} | {ratio(d, g['drag']):>18} | {ratio(l, g['lift']):>18} | {ratio(q, g['torque']):>20} |")
+print(f"{'lmp/gl':<10} | {ratio(d, g['drag']):>18} | {ratio(l, g['lift']):>18} | "
+      f"{ratio(q, g['torque']):>20} |")
 print("# grainlift: " + g["notes"])
 EOF
 gl_bed=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["notes"])' \
-           "$WORK/grainlift/summary.json" | grep -o 'grains [0-9]* (walls [0-9]*), area fraction [0-9.]*')
+           "$WORK/grainlift/summary.json" |
+           grep -o 'grains [0-9]* (walls [0-9]*), area fraction [0-9.]*')
 if [[ $gl_bed != "$bed_note" ]]; then
   echo "# WARNING: the exported bed ($bed_note) is not grainlift's ($gl_bed)"
 fi

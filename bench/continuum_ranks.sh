@@ -18,16 +18,20 @@ run() {  # run LABEL COMMAND...: prints "LABEL wall_s load"
   local l; l=$(load)
   local t0 t1
   t0=$(date +%s.%N)
-  "$@" > "$OUT/$label.log" 2>&1 || { echo "FAILED: $label (see below)"; tail -5 "$OUT/$label.log"; exit 1; }
+  "$@" > "$OUT/$label.log" 2>&1 || {
+    echo "FAILED: $label (see below)"; tail -5 "$OUT/$label.log"; exit 1
+  }
   t1=$(date +%s.%N)
-  awk -v a="$t0" -v b="$t1" -v l="$l" -v n="$label" 'BEGIN { printf "%-8s %8.2f s   load before %s\n", n, b - a, l }'
+  awk -v a="$t0" -v b="$t1" -v l="$l" -v n="$label" \
+    'BEGIN { printf "%-8s %8.2f s   load before %s\n", n, b - a, l }'
   grep -E "^ fem:" "$OUT/$label.log" || true
 }
 sleep 1
 r1=$(run 1rank "$G" run "$CASE" "${common[@]}" --out "$OUT/one")
 echo "$r1"
 sleep 1
-r2=$(run 2ranks mpirun --allow-run-as-root --oversubscribe -np 2 "$G" run "$CASE" "${common[@]}" --out "$OUT/two")
+r2=$(run 2ranks mpirun --allow-run-as-root --oversubscribe -np 2 "$G" run "$CASE" "${common[@]}" \
+       --out "$OUT/two")
 echo "$r2"
 t1=$(echo "$r1" | awk 'NR == 1 { print $2 }')
 t2=$(echo "$r2" | awk 'NR == 1 { print $2 }')

@@ -2,7 +2,8 @@
 # The benchmarks of `make bench`: time to an answer where production runs spend their time,
 # as ratios measured back to back on this machine (docs/performance.md quotes them).
 #
-#   bench/speed_to_answer.sh [build dir (build)] [sections ("lammps threads replicas fields error")]
+#   bench/speed_to_answer.sh [build dir (build)]
+#     [sections ("lammps threads replicas fields error")]
 #
 #   cores     what a second core adds on this machine whatever the code (dem_core_contention:
 #             compute, cache, memory kernels alone and two side by side): the ceiling of the
@@ -20,8 +21,9 @@
 #             dense and dilute runs and on the first 6 d of the full-size Kumar box
 #   fem       the FEM's error against time on the demo geometry, refinement 0-4 with nested
 #             iteration, 0-3 without (studies/fem_pareto/fem_pareto.py)
-#   error     relative error of drag and lift against wall time (studies/dem_error_vs_time/error_vs_time.py) for
-#             the reduced Kumar run and cases/guillard2014/gradient.toml
+#   error     relative error of drag and lift against wall time
+#             (studies/dem_error_vs_time/error_vs_time.py) for the reduced Kumar run and
+#             cases/guillard2014/gradient.toml
 #
 # Environment: REPS (repetitions of every timed run, default 3; the two runs of a ratio
 # alternate and the median of the paired ratios is printed, beside the medians: on this
@@ -44,8 +46,13 @@ KSET=(--set "intruder.velocity=[0.25,0.0]" --set intruder.omega=5.0 --set dem.tr
 REPS=${REPS:-3}
 export REPS
 has() { [[ " $SECTIONS " == *" $1 "* ]]; }
-wall() { "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' "$1/summary.json"; }
-median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'; }
+wall() {
+  "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' \
+    "$1/summary.json"
+}
+median() {
+  sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'
+}
 # run_once NAME ARGS...: the reduced run with ARGS once (output in $WORK/NAME); its solver wall
 # time (summary.json) is appended to $WORK/NAME.walls. Another case: TCASE (file) and the array
 # TSET (its --set options) in place of KUMAR and KSET.
@@ -71,14 +78,17 @@ timed_ab() {
   median <"$WORK/$a.walls" >"$WORK/$a.wall"
   median <"$WORK/$b.walls" >"$WORK/$b.wall"
   paste "$WORK/$a.walls" "$WORK/$b.walls" | awk '{print $1 / $2}' | median >"$WORK/$a.$b.ratio"
-  echo "# $a: $(tr '\n' ' ' <"$WORK/$a.walls")s; $b: $(tr '\n' ' ' <"$WORK/$b.walls")s; paired $a/$b: $(paste "$WORK/$a.walls" "$WORK/$b.walls" | awk '{printf "%.2f ", $1 / $2}')"
+  echo "# $a: $(tr '\n' ' ' <"$WORK/$a.walls")s; $b: $(tr '\n' ' ' <"$WORK/$b.walls")s;" \
+    "paired $a/$b: $(paste "$WORK/$a.walls" "$WORK/$b.walls" | awk '{printf "%.2f ", $1 / $2}')"
 }
 # the packing once, so that no timed run prepares it (sections that run the reduced case)
 if has threads || has replicas || has fields || has frictionless || has sleep || has error; then
-  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.travel=16 --out "$WORK/prep" --quiet >/dev/null
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.travel=16 --out "$WORK/prep" \
+    --quiet >/dev/null
 fi
 
-echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg)  $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
+echo "# $(date -u +%FT%TZ)  $(nproc) cores  load: $(cut -d' ' -f1-3 /proc/loadavg) " \
+  "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
 
 if has cores; then
   echo; echo "## What a second core adds here (any code; 2.00x = two independent cores)"
@@ -90,7 +100,8 @@ if has lammps; then
   if command -v "${LMP:-lmp}" >/dev/null && [[ -x "$BUILD/bin/dem_export_lammps_case" ]]; then
     WORK="$WORK/lammps" bash "$HERE/compare_lammps_production.sh" "$BUILD" "$REPS"
   else
-    echo "skipped: needs LAMMPS (\`lmp\`, Debian package lammps) and $BUILD/bin/dem_export_lammps_case"
+    echo "skipped: needs LAMMPS (\`lmp\`, Debian package lammps) and" \
+      "$BUILD/bin/dem_export_lammps_case"
   fi
 fi
 
@@ -116,7 +127,8 @@ work, reps = sys.argv[1], int(sys.argv[2])
 def rate(bed, th, r):
     x = json.load(open(f"{work}/throughput.{bed}.{th}.{r}.json"))["benchmarks"][0]
     return x["grains"], x["particle_steps_per_s"] / 1e6
-print("| bed | grains | 1 thread (M grain-steps/s, median) | 2 threads | paired ratios | median | target |")
+print("| bed | grains | 1 thread (M grain-steps/s, median) | 2 threads | paired ratios | median | "
+      "target |")
 print("| --- | --- | --- | --- | --- | --- | --- |")
 for bed in ("Dense", "Jammed", "Dilute"):
     one = [rate(bed, 1, r) for r in range(reps)]
@@ -151,8 +163,8 @@ fi
 if has replicas; then
   echo; echo "## Replicas against one run on one and on two threads"
   # the second replica's bed (seed dem.seed + 1) once, so that no timed run prepares it
-  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.seed=2 --set dem.travel=0.1 --set dem.steady_travel=0 \
-    --out "$WORK/prep_seed2" --quiet >/dev/null
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --set dem.seed=2 --set dem.travel=0.1 \
+    --set dem.steady_travel=0 --out "$WORK/prep_seed2" --quiet >/dev/null
   # one run on one thread, one run on two, two replicas: in turn, REPS times
   rm -f "$WORK/threads1r.walls" "$WORK/threads2r.walls" "$WORK/replicas2.walls"
   for ((r = 0; r < REPS; ++r)); do
@@ -161,12 +173,17 @@ if has replicas; then
     run_once replicas2 --threads 2 --replicas 2
   done
   for n in threads1r threads2r replicas2; do median <"$WORK/$n.walls" >"$WORK/$n.wall"; done
-  echo "# threads1r: $(tr '\n' ' ' <"$WORK/threads1r.walls")s; threads2r: $(tr '\n' ' ' <"$WORK/threads2r.walls")s; replicas2: $(tr '\n' ' ' <"$WORK/replicas2.walls")s"
+  echo "# threads1r: $(tr '\n' ' ' <"$WORK/threads1r.walls")s;" \
+    "threads2r: $(tr '\n' ' ' <"$WORK/threads2r.walls")s;" \
+    "replicas2: $(tr '\n' ' ' <"$WORK/replicas2.walls")s"
   for n in threads1r threads2r; do
     r=$(paste "$WORK/$n.walls" "$WORK/replicas2.walls" | awk '{print 2 * $1 / $2}' | median)
     pairs=$(paste "$WORK/$n.walls" "$WORK/replicas2.walls" | awk '{printf "%.2f ", 2 * $1 / $2}')
-    awk -v n="${n:7:1}" -v a="$(cat "$WORK/$n.wall")" -v b="$(cat "$WORK/replicas2.wall")" -v r="$r" -v p="$pairs" 'BEGIN {
-      printf "2 replicas (1 thread each, median %.1f s) against one run on %s thread(s) (median %.1f s): %.2fx the samples per wall second (paired: %s; target: close to 2x)\n", b, n, a, r, p }'
+    awk -v n="${n:7:1}" -v a="$(cat "$WORK/$n.wall")" -v b="$(cat "$WORK/replicas2.wall")" \
+        -v r="$r" -v p="$pairs" 'BEGIN {
+      f = "2 replicas (1 thread each, median %.1f s) against one run on %s thread(s) "
+      f = f "(median %.1f s): %.2fx the samples per wall second (paired: %s; target: close to 2x)\n"
+      printf f, b, n, a, r, p }'
   done
 fi
 
@@ -174,16 +191,21 @@ if has fields; then
   echo; echo "## Fields off against on (one thread)"
   ARGS_A=(--threads 1 --set output.fields=true) ARGS_B=(--threads 1 --set output.fields=false)
   timed_ab fields_on fields_off
-  on=$(cat "$WORK/fields_on.wall"); off=$(cat "$WORK/fields_off.wall"); r=$(cat "$WORK/fields_on.fields_off.ratio")
+  on=$(cat "$WORK/fields_on.wall"); off=$(cat "$WORK/fields_off.wall")
+  r=$(cat "$WORK/fields_on.fields_off.ratio")
   awk -v a="$on" -v b="$off" -v r="$r" 'BEGIN {
-    printf "medians: fields on %.1f s, off %.1f s: off saves %.0f%% (paired; the case default is off for the reduced Kumar case)\n", a, b, 100 * (1 - 1 / r) }'
+    f = "medians: fields on %.1f s, off %.1f s: off saves %.0f%% "
+    f = f "(paired; the case default is off for the reduced Kumar case)\n"
+    printf f, a, b, 100 * (1 - 1 / r) }'
 fi
 
 if has frictionless; then
   echo; echo "## Frictionless path against the general law (grains.friction = 0, one thread)"
   F0=(--set grains.friction=0.0)
-  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" "${F0[@]}" --set dem.travel=16 --out "$WORK/prep_mu0" --quiet >/dev/null
-  ARGS_A=("${F0[@]}" --set dem.frictionless_path=false) ARGS_B=("${F0[@]}" --set dem.frictionless_path=true)
+  "$GL" run "$KUMAR" --solver dem "${KSET[@]}" "${F0[@]}" --set dem.travel=16 \
+    --out "$WORK/prep_mu0" --quiet >/dev/null
+  ARGS_A=("${F0[@]}" --set dem.frictionless_path=false) \
+    ARGS_B=("${F0[@]}" --set dem.frictionless_path=true)
   timed_ab mu0_general mu0_path
   "$PY" - "$WORK/mu0_general" "$WORK/mu0_path" <<'PYEOF'
 import json, sys
@@ -205,14 +227,16 @@ if has sleep; then
   # the full-size box (61,640 grains, V0 1 m/s, Omega 2): its first 6 d; the packing once
   TCASE="$ROOT/cases/kumar2019/full_phi0818.toml"
   TSET=(--set dem.travel=6 --set dem.steady_travel=1)
-  "$GL" run "$TCASE" --solver dem --set dem.travel=0.1 --set dem.steady_travel=0 --out "$WORK/prep_full" --quiet >/dev/null
+  "$GL" run "$TCASE" --solver dem --set dem.travel=0.1 --set dem.steady_travel=0 \
+    --out "$WORK/prep_full" --quiet >/dev/null
   timed_ab sleep_full_off sleep_full_on
   unset TCASE TSET
   PYTHONPATH="$ROOT/python" "$PY" - "$WORK" <<'PYEOF'
 import sys
 from grainlift import io
 work = sys.argv[1]
-print("| run | grains | no sleeping (s) | sleeping (s) | saving | grain-steps asleep | woken | same drag, lift bits |")
+print("| run | grains | no sleeping (s) | sleeping (s) | saving | grain-steps asleep | woken | "
+      "same drag, lift bits |")
 print("| --- | --- | --- | --- | --- | --- | --- | --- |")
 for tag, what in (("dense", "reduced Phi 0.8, 30 d"), ("dilute", "reduced Phi 0.35, 30 d"),
                   ("full", "full box Phi 0.818, first 6 d")):
@@ -229,7 +253,8 @@ PYEOF
 fi
 
 if has fem; then
-  echo; echo "## FEM: error against time on the demo geometry (2 threads; nested iteration on and off)"
+  echo; echo "## FEM: error against time on the demo geometry" \
+    "(2 threads; nested iteration on and off)"
   # nested up to refinement 4 (177,440 unknowns, ~50 s), the whole continuation per mesh to 3
   for r in 0 1 2 3 4; do
     "$GL" run "$ROOT/cases/demo/demo.toml" --solver fem --threads 2 --quiet \
@@ -240,13 +265,16 @@ if has fem; then
       --set continuum.refinement=$r --set continuum.mesh_error_estimate=false \
       --set continuum.nested=false --set output.fields=false --out "$WORK/fem_flat_$r" >/dev/null
   done
-  "$PY" "$ROOT/studies/fem_pareto/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- "$WORK"/fem_flat_{0,1,2,3}
+  "$PY" "$ROOT/studies/fem_pareto/fem_pareto.py" "$WORK"/fem_nested_{0,1,2,3,4} -- \
+    "$WORK"/fem_flat_{0,1,2,3}
 fi
 
 if has error; then
   echo; echo "## Error against wall time"
-  [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" --out "$WORK/threads1" --quiet >/dev/null
-  "$GL" run "$ROOT/cases/guillard2014/gradient.toml" --solver dem --out "$WORK/guillard" --quiet >/dev/null
+  [[ -s "$WORK/threads1/summary.json" ]] || "$GL" run "$KUMAR" --solver dem "${KSET[@]}" \
+    --out "$WORK/threads1" --quiet >/dev/null
+  "$GL" run "$ROOT/cases/guillard2014/gradient.toml" --solver dem --out "$WORK/guillard" \
+    --quiet >/dev/null
   "$PY" "$ROOT/studies/dem_error_vs_time/error_vs_time.py" "$WORK/threads1" "$WORK/guillard"
 fi
 echo "# load after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -43,7 +43,8 @@ EOF
 }
 
 NOFMA="GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-FMA4"
-echo "$SOLVER of $CASE ($(git -C "$(dirname "$0")/.." rev-parse --short HEAD), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
+echo "$SOLVER of $CASE ($(git -C "$(dirname "$0")/.." rev-parse --short HEAD)," \
+  "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
 if [ "$SOLVER" = dem ]; then
   one threads-1 1
   one threads-2 2

@@ -223,7 +223,8 @@ def solver_rows(runs):
         if "box" in d:
             return str(d["box"])
         if "mean_travel_from" in d:
-            window = f"means over {fmt(d['mean_travel_from'])}-{fmt(d['mean_travel_to'])} d of travel"
+            window = (f"means over {fmt(d['mean_travel_from'])}-{fmt(d['mean_travel_to'])} "
+                      "d of travel")
             if "wake_travel" in d:
                 crossed = "after" if int(d.get("crossed_own_wake", 0)) else "before"
                 window += (f"; the intruder meets its own wake at {fmt(d['wake_travel'])} d: "

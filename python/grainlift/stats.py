@@ -1,10 +1,11 @@
 """The statistics of grainlift's results: block means of a correlated series, the pooled mean of
 independent beds, and Richardson extrapolation over three mesh levels.
 
-This module is the Python mirror of the C++ module shared/include/grainlift/shared/statistics/statistics.h
-(shared/src/statistics/statistics.cc): the same rules, the same edge cases, the same order of the sums, so
-that both give the same numbers on the same input (pinned to 1e-12 relative by
-tests/scripts/test_statistics_equal.py). Change one only together with the other.
+This module is the Python mirror of the C++ module
+shared/include/grainlift/shared/statistics/statistics.h (shared/src/statistics/statistics.cc): the
+same rules, the same edge cases, the same order of the sums, so that both give the same numbers on
+the same input (pinned to 1e-12 relative by tests/scripts/test_statistics_equal.py). Change one
+only together with the other.
 
 Pure Python (math only): it imports without numpy and accepts any sequence of numbers,
 numpy arrays included.

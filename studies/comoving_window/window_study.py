@@ -2,14 +2,16 @@
 """The co-moving window against a long box (issue 14, docs/performance.md, Skips).
 
 Runs a reduced Kumar case (default: the dense one, Phi 0.8, at V0 0.25 m/s and omega 5 rad/s;
-one thread each) three ways per seed: the 60 d box (the intruder meets its own wake after 60 d of travel), the same box
+one thread each) three ways per seed: the 60 d box (the intruder meets its own wake after 60 d \
+of travel), the same box
 with dem.window_width, and a box LONG times as long (no wake comes round in the travel) as
 the reference. Prints a Markdown table: drag and lift over the laps of travel (block means,
 10 blocks each, block errors: grainlift.stats.block_mean), the wall time, and the window's
 diagnostics; then the pooled means over the seeds (grainlift.stats.pooled_mean: the larger of
 the between-seed error and the block errors combined).
 
-    studies/comoving_window/window_study.py build/bin/grainlift WORK [--case FILE] [--v0 0.25] [--omega 5]
+    studies/comoving_window/window_study.py build/bin/grainlift WORK [--case FILE] [--v0 0.25] \
+[--omega 5]
         [--seeds 1 2] [--travel 150] [--width 10] [--long 3] [--runs short window long]
         [--set KEY=VALUE ...]
 """
@@ -53,7 +55,8 @@ def run(a, name, seed, extra):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("grainlift")
     ap.add_argument("work")
     ap.add_argument("--case", default="cases/kumar2019/reduced_phi080.toml")
@@ -72,7 +75,8 @@ def main():
     laps = [(30, 60)] + [(lo, lo + 30) for lo in range(60, int(a.travel), 30)]
     laps = [(lo, min(hi, a.travel)) for lo, hi in laps] + [(60, a.travel), (30, a.travel)]
     head = " | ".join(f"{lo:g}-{hi:g} d drag / lift" for lo, hi in laps)
-    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d), bed slide (d), band contacts |")
+    print(f"| run | seed | {head} | wall (s) | window: band grains, with a site, core rms (d), "
+          "bed slide (d), band contacts |")
     print("| --- | --- | " + " | ".join("---" for _ in laps) + " | --- | --- |")
     pooled = {}
     for kind in a.runs:

@@ -31,7 +31,8 @@ def data_arrays(text):
         blocks = struct.unpack("<I", base64.b64decode(body[:8])[:4])[0]
         header_bytes = 4 * (3 + blocks)
         header_chars = 4 * ((header_bytes + 2) // 3)
-        header = struct.unpack(f"<{3 + blocks}I", base64.b64decode(body[:header_chars])[:header_bytes])
+        header = struct.unpack(f"<{3 + blocks}I",
+                               base64.b64decode(body[:header_chars])[:header_bytes])
         data = base64.b64decode(body[header_chars:])
         raw, pos = b"", 0
         for size in header[3:]:
@@ -57,7 +58,8 @@ def main():
     for lo, hi in ((0, 0.035), (0.035, 0.07), (0.07, 0.15), (0.15, 0.3), (0.3, 1), (1, np.inf)):
         ring = (gap >= lo - 1e-9) & (gap < hi)
         if ring.any():
-            print(f"| {lo:g}-{hi:g} | {int(ring.sum())} | {int((ring & (inertial > i_high)).sum())} "
+            print(f"| {lo:g}-{hi:g} | {int(ring.sum())} | "
+                  f"{int((ring & (inertial > i_high)).sum())} "
                   f"| {np.median(inertial[ring]):.3g} |")
     return 0
 

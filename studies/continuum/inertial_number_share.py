@@ -35,7 +35,8 @@ def main():
     sheared = mu >= 0.99 * MU_S
     inertial = I_0 * (mu[sheared] - MU_S).clip(0) / np.maximum(MU_2 - mu[sheared], 1e-12)
     q = np.quantile(inertial, [0.5, 0.9, 0.99])
-    print(f"{inside.sum()} grid points in the medium; sheared (mu_eff >= 0.99 mu_s): {sheared.mean():.1%}")
+    print(f"{inside.sum()} grid points in the medium; sheared (mu_eff >= 0.99 mu_s): "
+          f"{sheared.mean():.1%}")
     print(f"of the sheared: I < {i_low:g}: {np.mean(inertial < i_low):.1%}; "
           f"I median {q[0]:.3g}, 90% {q[1]:.3g}, 99% {q[2]:.3g}")
     return 0

@@ -3,7 +3,8 @@
 
     plot_continuum_study.py RUN_DIR IMG_DIR
 
-Reads RUN_DIR/{split,mesh,delta,hdelta,wellposed,box,spin,spin_bg,depth_bg}/*/fem.h5 (the shared schema, docs/schema.md), writes
+Reads RUN_DIR/{split,mesh,delta,hdelta,wellposed,box,spin,spin_bg,depth_bg}/*/fem.h5 (the shared \
+schema, docs/schema.md), writes
 PNG figures into IMG_DIR and prints the markdown tables of docs/results-continuum.md. Parts whose
 runs are missing are skipped with a note.
 """
@@ -52,7 +53,8 @@ def load(path):
         if "buoyancy" in derived.attrs:
             r["buoyancy"] = float(derived.attrs["buoyancy"])
         if "sigma_n_symmetric" in derived:
-            r["sigma_n_split"] = (derived["sigma_n_symmetric"][:], derived["sigma_n_antisymmetric"][:])
+            r["sigma_n_split"] = (derived["sigma_n_symmetric"][:],
+                                  derived["sigma_n_antisymmetric"][:])
 
     def get(key, conv=float):
         return conv(diag[key]) if key in diag else None
@@ -117,7 +119,8 @@ def part_split(run_dir, img_dir, sub="split", title=""):
     """The asymptotic split from RUN_DIR/SUB; figures continuum_SUB_*.png."""
     rows = []
     for h in (4, 8, 16, 32):
-        paths = {k: os.path.join(run_dir, sub, f"{k}_h{h}", "fem.h5") for k in ("full", "linearised", "base")}
+        paths = {k: os.path.join(run_dir, sub, f"{k}_h{h}", "fem.h5")
+                 for k in ("full", "linearised", "base")}
         if not all(os.path.exists(p) for p in paths.values()):
             print(f"({sub}: h = {h} D incomplete, skipped)")
             continue
@@ -125,34 +128,41 @@ def part_split(run_dir, img_dir, sub="split", title=""):
     if not rows:
         print(f"({sub}: no runs)")
         return
-    print(f"\n### Asymptotic split{title}: (a) full nonlinear solve, (b) base state + one linear solve\n")
-    print("| h/D | eps | P0 (Pa) | C_d (a) | C_d (b) | L/B (a) | L/B (b) | (b)-(a) in L/B | drag base | "
-          "hydrostatic weighting L/B | time (a) | time (b) | of which correction |")
+    print(f"\n### Asymptotic split{title}: (a) full nonlinear solve, "
+          "(b) base state + one linear solve\n")
+    print("| h/D | eps | P0 (Pa) | C_d (a) | C_d (b) | L/B (a) | L/B (b) | (b)-(a) in L/B | "
+          "drag base | hydrostatic weighting L/B | time (a) | time (b) | of which correction |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for h, r in rows:
         a, b, base = r["full"], r["linearised"], r["base"]
         B = buoyancy(a)
         P0 = base["P0"]
         hw = hydrostatic_weighting_lift(base, a["g"], a["rho"]) / B
-        print(f"| {h} | 1/{h} | {P0:.4g} | {a['drag'] / (P0 * a['D']):.3f} | {b['drag'] / (P0 * a['D']):.3f} | "
+        print(f"| {h} | 1/{h} | {P0:.4g} | {a['drag'] / (P0 * a['D']):.3f} | "
+              f"{b['drag'] / (P0 * a['D']):.3f} | "
               f"{a['lift'] / B:.2f} | {b['lift'] / B:.2f} | {(b['lift'] - a['lift']) / B:+.2f} | "
-              f"{base['drag'] / (P0 * a['D']):.3f} | {hw:.2f} | {a['seconds']:.1f} s | {b['seconds']:.1f} s | "
+              f"{base['drag'] / (P0 * a['D']):.3f} | {hw:.2f} | {a['seconds']:.1f} s | "
+              f"{b['seconds']:.1f} s | "
               f"{(b['correction_s'] or 0):.2f} s |")
 
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     hs = [h for h, _ in rows]
-    ax[0].plot(hs, [r["full"]["lift"] / buoyancy(r["full"]) for _, r in rows], "o-", label="(a) full nonlinear")
+    ax[0].plot(hs, [r["full"]["lift"] / buoyancy(r["full"]) for _, r in rows], "o-",
+               label="(a) full nonlinear")
     ax[0].plot(hs, [r["linearised"]["lift"] / buoyancy(r["full"]) for _, r in rows], "s--",
                label="(b) base + linear correction")
-    ax[0].plot(hs, [hydrostatic_weighting_lift(r["base"], r["full"]["g"], r["full"]["rho"]) / buoyancy(r["full"])
+    ax[0].plot(hs, [hydrostatic_weighting_lift(r["base"], r["full"]["g"], r["full"]["rho"])
+                    / buoyancy(r["full"])
                     for _, r in rows], "^:", label="g = 0 stress x hydrostatic weight")
     ax[0].set_xscale("log", base=2)
     ax[0].set_xlabel("h / D")
     ax[0].set_ylabel("lift / buoyancy")
     ax[0].legend()
     ax[0].set_title("lift against depth")
-    for key, style, lab in (("full", "o-", "(a)"), ("linearised", "s--", "(b)"), ("base", "^:", "no gravity")):
-        ax[1].plot(hs, [r[key]["drag"] / (r["base"]["P0"] * r["full"]["D"]) for _, r in rows], style, label=lab)
+    for key, style, lab in (("full", "o-", "(a)"), ("linearised", "s--", "(b)"),
+                            ("base", "^:", "no gravity")):
+        ax[1].plot(hs, [r[key]["drag"] / (r["base"]["P0"] * r["full"]["D"]) for _, r in rows],
+                   style, label=lab)
     ax[1].set_xscale("log", base=2)
     ax[1].set_xlabel("h / D")
     ax[1].set_ylabel("drag / (P0 D)")
@@ -178,9 +188,11 @@ def part_split(run_dir, img_dir, sub="split", title=""):
         ax[1].plot(thp, (anti_b / rgD)[order], "--", color=line.get_color())
         ax[2].plot(thp, ((sym_a - base["sigma_n"]) / rgD)[order], label=f"(a) h = {h} D")
     ax[0].set_title("symmetric part of sigma_n / P0")
-    ax[0].text(0.02, 0.92, "solid (a) full, dotted no gravity", transform=ax[0].transAxes, fontsize=8)
+    ax[0].text(0.02, 0.92, "solid (a) full, dotted no gravity", transform=ax[0].transAxes,
+               fontsize=8)
     ax[1].set_title("antisymmetric part of sigma_n / (rho g D)")
-    ax[1].text(0.02, 0.02, "solid (a) full, dashed (b) linearised", transform=ax[1].transAxes, fontsize=8)
+    ax[1].text(0.02, 0.02, "solid (a) full, dashed (b) linearised", transform=ax[1].transAxes,
+               fontsize=8)
     ax[2].set_title("(a): symmetric part minus g = 0 stress, / (rho g D)")
     for x in ax:
         x.set_xlabel("theta from V (deg)")
@@ -223,12 +235,15 @@ def part_mesh(run_dir, img_dir):
                        label="lift / buoyancy, (b)")
         ax[0].set_xlabel("refinement level")
         ax[0].set_title("Guillard gradient case, h = 8 D")
-        ax[1].semilogy([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-", label="uniform")
+        ax[1].semilogy([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], "o-",
+                       label="uniform")
         if ad:
-            ax[1].semilogy([r["dofs"] for _, r in ad], [r["seconds"] for _, r in ad], "s--", label="adaptive")
+            ax[1].semilogy([r["dofs"] for _, r in ad], [r["seconds"] for _, r in ad], "s--",
+                           label="adaptive")
             ax[0].plot([1 + 0.5 * k for k, _ in ad], [drag_coefficient(r) for _, r in ad], "x",
                        color="C0", label="adaptive (x at 1 + cycles/2)")
-            ax[0].plot([1 + 0.5 * k for k, _ in ad], [lift_ratio(r) for _, r in ad], "x", color="C1")
+            ax[0].plot([1 + 0.5 * k for k, _ in ad], [lift_ratio(r) for _, r in ad], "x",
+                       color="C1")
         ax[0].legend()
         ax[1].legend()
         ax[1].set_xscale("log")
@@ -309,7 +324,8 @@ def part_wellposed(run_dir, img_dir):
         lev = [x for x, _ in rows]
         ax[0].plot(lev, [drag_coefficient(r) for _, r in rows], style, label=lab)
         ax[1].plot(lev, [lift_ratio(r) for _, r in rows], style, label=lab)
-        ax[2].loglog([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], style, label=lab)
+        ax[2].loglog([r["dofs"] for _, r in rows], [r["seconds"] for _, r in rows], style,
+                     label=lab)
     ax[0].set_title("drag / (P0 D)")
     ax[1].set_title("lift / buoyancy")
     for a in ax[:2]:
@@ -414,7 +430,8 @@ def part_depth_bg(run_dir, img_dir):
         print("(depth_bg: no runs)")
         return
     print("\n### Barker-Gray law against depth: refinements 3 and 4\n")
-    print("| h/D | L/B, ref 3 | L/B, ref 4 | change | drag/(P0 D), ref 3 | drag/(P0 D), ref 4 | change | time ref 4 |")
+    print("| h/D | L/B, ref 3 | L/B, ref 4 | change | drag/(P0 D), ref 3 | drag/(P0 D), ref 4 | "
+          "change | time ref 4 |")
     print("|---|---|---|---|---|---|---|---|")
     r3 = dict(levels[3])
     for h, r in levels[4]:
@@ -423,7 +440,8 @@ def part_depth_bg(run_dir, img_dir):
             continue
         print(f"| {h} | {lift_ratio(a):.3f} | {lift_ratio(r):.3f} | "
               f"{100 * (lift_ratio(r) / lift_ratio(a) - 1):+.1f}% | {drag_coefficient(a):.3f} | "
-              f"{drag_coefficient(r):.3f} | {100 * (drag_coefficient(r) / drag_coefficient(a) - 1):+.1f}% | "
+              f"{drag_coefficient(r):.3f} | "
+              f"{100 * (drag_coefficient(r) / drag_coefficient(a) - 1):+.1f}% | "
               f"{r['seconds']:.0f} s |")
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     for k, (lev, rows) in enumerate(sorted(levels.items())):
@@ -442,7 +460,8 @@ def part_depth_bg(run_dir, img_dir):
     if r5:
         ax[0].plot([8], [lift_ratio(load(r5[0]))], "k*", label="refinement 5 (h = 8 D)")
         ax[1].plot([8], [drag_coefficient(load(r5[0]))], "k*", label="refinement 5 (h = 8 D)")
-    ax[0].axhspan(20 * 0.8, 20 * 1.2, color="grey", alpha=0.15, label="Guillard et al.: ~20 (experiments)")
+    ax[0].axhspan(20 * 0.8, 20 * 1.2, color="grey", alpha=0.15,
+                  label="Guillard et al.: ~20 (experiments)")
     ax[0].set_ylabel("lift / buoyancy")
     ax[1].set_ylabel("drag / (P0 D)")
     for a in ax:
@@ -463,7 +482,8 @@ def spin_ratio(r):
 
 
 def dem_ld_omega(csv_path):
-    """(Omega, L/D, its standard error) of a DEM sweep.csv (studies/kumar2019/reproduce_kumar2019.sh)."""
+    """(Omega, L/D, its standard error) of a DEM sweep.csv
+    (studies/kumar2019/reproduce_kumar2019.sh)."""
     out = []
     with open(csv_path) as f:
         for row in csv.DictReader(f):
@@ -487,7 +507,8 @@ def part_spin_bg(run_dir, img_dir, dem_csv="runs/kumar2019/omega_phi080/sweep.cs
     if not runs:
         print("(spin_bg: no runs)")
         return
-    print("\n### Spinning cylinder, Barker-Gray law (Kumar geometry, P0 = 1000 Pa): L/D by mesh level\n")
+    print("\n### Spinning cylinder, Barker-Gray law (Kumar geometry, P0 = 1000 Pa): "
+          "L/D by mesh level\n")
     omegas = sorted({om for by_omega in runs.values() for om in by_omega})
     for wall in ("no_slip", "coulomb"):
         levels = sorted(lev for w, lev in runs if w == wall)

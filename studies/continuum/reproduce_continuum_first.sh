@@ -9,7 +9,8 @@ S=(--solver fem --quiet --threads 1 --set output.fields=false --set output.vtu=f
 # Guillard gradient case: depth series (fixed FE box), mesh levels, the same P0 without gradient
 "$G" sweep cases/guillard2014/gradient.toml "${S[@]}" --set "continuum.box_half_size=[0.05,0.025]" \
   --set "domain.y_range=[-0.3,0.06]" \
-  --vary "intruder.position=[0.0,0.03],[0.0,0.0],[0.0,-0.03],[0.0,-0.09],[0.0,-0.21]" --out "$O/depth"
+  --vary "intruder.position=[0.0,0.03],[0.0,0.0],[0.0,-0.03],[0.0,-0.09],[0.0,-0.21]" \
+  --out "$O/depth"
 "$G" sweep cases/guillard2014/gradient.toml "${S[@]}" --set "continuum.box_half_size=[0.06,0.04]" \
   --vary continuum.refinement=0,1,2 --out "$O/mesh"
 "$G" run cases/guillard2014/no_gradient.toml "${S[@]}" --set "continuum.box_half_size=[0.06,0.04]" \
@@ -22,7 +23,8 @@ for wall in no_slip coulomb; do
 done
 /usr/bin/python3 studies/kumar2019/plot_sweep.py ld-omega "$O/ld_omega.png" \
   "runs/kumar2019/omega_phi080/sweep.csv:DEM, Phi 0.8" \
-  "$O/omega_no_slip/sweep.csv:mu(I), no-slip wall" "$O/omega_coulomb/sweep.csv:mu(I), Coulomb wall mu_w 0.5"
+  "$O/omega_no_slip/sweep.csv:mu(I), no-slip wall" \
+  "$O/omega_coulomb/sweep.csv:mu(I), Coulomb wall mu_w 0.5"
 # Regularisation: delta at h = 4 D (box 0.12 m x 0.08 m, refinement 1)
 "$G" sweep cases/guillard2014/gradient.toml "${S[@]}" --set "continuum.box_half_size=[0.06,0.04]" \
   --set continuum.refinement=1 --vary continuum.delta=1e-1,1e-2,1e-3,1e-4,1e-5 --out "$O/delta"

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The continuum studies of docs/results-continuum.md (issue 4), one part at a time or all:
-#   studies/continuum/study_continuum.sh [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]
+#   studies/continuum/study_continuum.sh
+#     [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|
+#      spin_mesh|plots|all] [OUT_DIR]
 # Guillard 2014 gradient case (cases/guillard2014/gradient.toml) in a fixed FE box around the
 # intruder; the depth h is set by moving the intruder down a tall bed whose top is at y = 0.06 m.
 #   split  full nonlinear solves (a) against base state + linear correction (b), h/D = 4..32,
@@ -93,8 +95,8 @@ part_hdelta() {
     d=${spec%:*}
     top=${spec#*:}
     for r in $(seq 0 "$top"); do
-      run "hdelta/delta_${d}_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" --set "$JOP" \
-        --set continuum.delta=$d --set continuum.refinement=$r
+      run "hdelta/delta_${d}_r$r" --set "$BOX" --set "intruder.position=[0.0,$(ypos 8)]" \
+        --set "$JOP" --set continuum.delta=$d --set continuum.refinement=$r
     done
   done
 }
@@ -124,7 +126,8 @@ part_box() {
       --set "intruder.position=[0.0,$(ypos 16)]" --set "$JOP"
   done
 }
-part_box_bg() {  # the box study with the Barker-Gray law, to f = 6 (the box top at the free surface)
+# the box study with the Barker-Gray law, to f = 6 (the box top at the free surface)
+part_box_bg() {
   for f in 1 2 3 4 6; do
     run "box_bg/box_x$f" --set "continuum.box_half_size=$(box_of $f)" \
       --set "intruder.position=[0.0,$(ypos 16)]" --set "$BGL"
@@ -201,6 +204,12 @@ case "$PART" in
   spin_bg) part_spin_bg ;;
   spin_mesh) part_spin_mesh ;;
   plots) part_plots ;;
-  all) part_split split --set "$JOP"; part_split_bg; part_mesh; part_delta; part_hdelta; part_wellposed; part_box; part_box_bg; part_depth_bg; part_dem_box; part_spin; part_spin_bg; part_spin_mesh; part_plots ;;
-  *) echo "usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]" >&2; exit 2 ;;
+  all)
+    part_split split --set "$JOP"; part_split_bg; part_mesh; part_delta; part_hdelta
+    part_wellposed; part_box; part_box_bg; part_depth_bg; part_dem_box; part_spin; part_spin_bg
+    part_spin_mesh; part_plots ;;
+  *)
+    usage="usage: $0 [split|split_bg|mesh|delta|hdelta|wellposed|box|box_bg|depth_bg|dem_box|"
+    usage+="spin|spin_bg|spin_mesh|plots|all] [OUT_DIR]"
+    echo "$usage" >&2; exit 2 ;;
 esac

@@ -51,22 +51,26 @@ def table(path, blocks, targets):
         travel0 = t[first] * v / d
         w = wall * end / len(t)
         rows.append((travel, w, travel - travel0, md, sd / abs(md), ml, sl / abs(ml)))
-        print(f"| {travel:.1f} | {w:.1f} | {travel - travel0:.1f} | {md:.4g} | {100 * sd / abs(md):.1f}% "
+        print(f"| {travel:.1f} | {w:.1f} | {travel - travel0:.1f} | {md:.4g} | "
+              f"{100 * sd / abs(md):.1f}% "
               f"| {ml:.4g} | {100 * sl / abs(ml):.1f}% |")
     if rows and targets:
         travel, w, avg, _, ed, _, el = rows[-1]
         lead = travel - avg  # the transient before averaging
         print()
-        print("| target | averaging needed (d) | run travel (d) | wall time (s), from this run's rate |")
+        print("| target | averaging needed (d) | run travel (d) | "
+              "wall time (s), from this run's rate |")
         print("| --- | --- | --- | --- |")
         for tg in targets:
             need = avg * max(ed, el) ** 2 / tg ** 2
-            print(f"| {100 * tg:.0f}% | {need:.0f} | {lead + need:.0f} | {w * (lead + need) / travel:.0f} |")
+            print(f"| {100 * tg:.0f}% | {need:.0f} | {lead + need:.0f} | "
+                  f"{w * (lead + need) / travel:.0f} |")
     print()
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--targets", default="0.05,0.1,0.2")
     ap.add_argument("--blocks", type=int, default=0)

@@ -1,4 +1,5 @@
-"""The hydrostatic check of a DEM bed under a lid and gravity, for studies/depth/plot_depth_study.py.
+"""The hydrostatic check of a DEM bed under a lid and gravity, for
+studies/depth/plot_depth_study.py.
 
 Across a horizontal line through the whole (periodic) width, the time-averaged vertical stress
 carries everything above it: the lid's pressure, the weight of the grains between the line and
@@ -59,7 +60,8 @@ def bed_balance(r):
     lid = 0.0 if r["lid_mean"] != r["lid_mean"] else r["lid_mean"]
     g = r["g_grains"]
     lift = r.get("lift_fields", r["lift"])  # the lift over the fields' own averaging window
-    expected = lid + r["rho_s"] * g * _integral_above(phi, dy) + np.where(y < 0, lift / r["width"], 0.0)
+    expected = (lid + r["rho_s"] * g * _integral_above(phi, dy)
+                + np.where(y < 0, lift / r["width"], 0.0))
     yb, sb, eb = [], [], []
     for lo, hi in BED_BANDS:
         rows = (y >= lo * D) & (y < hi * D)

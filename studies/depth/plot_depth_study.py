@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Figures and table of the depth sweep (studies/depth/study_depth.sh, docs/results-guillard2014.md).
+"""Figures and table of the depth sweep (studies/depth/study_depth.sh, \
+docs/results-guillard2014.md).
 
     python3 studies/depth/plot_depth_study.py OUT_DIR [IMG_DIR] [--window LO HI]
 
@@ -152,15 +153,21 @@ def series(runs, s, gradient, bigbox=False, free_surface=False):
 
 STYLE = {
     ("dem", True): dict(color="C0", marker="o", label="DEM, gradient"),
-    ("dem", False): dict(color="C0", marker="o", mfc="none", ls="--", label="DEM, no gradient (lid only)"),
+    ("dem", False): dict(color="C0", marker="o", mfc="none", ls="--",
+                         label="DEM, no gradient (lid only)"),
     ("dem_rigid", True): dict(color="C7", marker="v", ms=5, label="DEM, gradient, rigid lid"),
-    ("dem_rigid", False): dict(color="C7", marker="v", ms=5, mfc="none", ls="--", label="DEM, no gradient, rigid lid"),
+    ("dem_rigid", False): dict(color="C7", marker="v", ms=5, mfc="none", ls="--",
+                               label="DEM, no gradient, rigid lid"),
     ("dem_d6", True): dict(color="C1", marker="o", ms=5, label="DEM, gradient, 6 D below"),
-    ("dem_d6", False): dict(color="C1", marker="o", ms=5, mfc="none", ls="--", label="DEM, no gradient, 6 D below"),
-    ("dem_d6_pooled", True): dict(color="C1", marker="o", ms=6, label="DEM, gradient, 6 D below, 3 beds"),
-    ("dem_d6_pooled", False): dict(color="C1", marker="o", ms=6, mfc="none", ls="--", label="DEM, no gradient, 6 D below, 3 beds"),
+    ("dem_d6", False): dict(color="C1", marker="o", ms=5, mfc="none", ls="--",
+                            label="DEM, no gradient, 6 D below"),
+    ("dem_d6_pooled", True): dict(color="C1", marker="o", ms=6,
+                                  label="DEM, gradient, 6 D below, 3 beds"),
+    ("dem_d6_pooled", False): dict(color="C1", marker="o", ms=6, mfc="none", ls="--",
+                                   label="DEM, no gradient, 6 D below, 3 beds"),
     ("fem_full", True): dict(color="C3", marker="s", label="FEM full, gradient"),
-    ("fem_full", False): dict(color="C3", marker="s", mfc="none", ls="--", label="FEM, no gradient"),
+    ("fem_full", False): dict(color="C3", marker="s", mfc="none", ls="--",
+                              label="FEM, no gradient"),
     ("fem_linearised", True): dict(color="C2", marker="^", ls=":", label="FEM O(eps), gradient"),
 }
 
@@ -180,8 +187,9 @@ def plot_scalar(runs, key, err_key, ylabel, path, norm, net=False):
             pts = [r for _, r in sel if full_g(r) != reduced]
             if not pts:
                 continue
-            kw = dict(st) if not reduced else dict(color=st["color"], marker="^", ms=8, ls="none",
-                                                    label=f"{st['label'].split(',')[0]}: g/2, g/4 at the P0 of 8 D")
+            kw = dict(st) if not reduced else dict(
+                color=st["color"], marker="^", ms=8, ls="none",
+                label=f"{st['label'].split(',')[0]}: g/2, g/4 at the P0 of 8 D")
             ax.errorbar([r["hD"] for r in pts], [norm(r, r[key]) for r in pts],
                         yerr=[norm(r, r[err_key]) for r in pts] if dem else None, capsize=3, **kw)
         for name, r in series(runs, s, grad, free_surface=True):
@@ -193,14 +201,17 @@ def plot_scalar(runs, key, err_key, ylabel, path, norm, net=False):
         pts = [(r, p) for r, p in pts if p is not None]
         if pts:
             ax.errorbar([r["hD"] for r, _ in pts], [norm(r, r[key] - p[key]) for r, p in pts],
-                        yerr=[norm(r, math.hypot(r[err_key], p[err_key])) for r, p in pts], color="k",
-                        marker="D", ms=6, ls=":", capsize=3,
+                        yerr=[norm(r, math.hypot(r[err_key], p[err_key])) for r, p in pts],
+                        color="k", marker="D", ms=6, ls=":", capsize=3,
                         label=f"{TITLES[m].split(',')[0]}: gradient less no gradient (same P0)")
     for s in (main_dem(runs), "fem_full"):
         for name, r in series(runs, s, True, bigbox=True):
-            ax.errorbar(r["hD"], norm(r, r[key]), yerr=norm(r, r[err_key]) if s.startswith("dem") else None,
+            ax.errorbar(r["hD"], norm(r, r[key]),
+                        yerr=norm(r, r[err_key]) if s.startswith("dem") else None,
                         color=STYLE[(s, True)]["color"], marker="D", ms=8, mfc="none", ls="none",
-                        capsize=3, label=f"{s.split('_')[0].upper()}, box 18 D wide, 6 D below" if name == "heavy_lid_h8_bigbox" else None)
+                        capsize=3,
+                        label=(f"{s.split('_')[0].upper()}, box 18 D wide, 6 D below"
+                               if name == "heavy_lid_h8_bigbox" else None))
     ax.plot([], [], "k*", ms=11, ls="none", label="free surface (method i), same colours")
     ax.axhline(0, color="0.6", lw=0.8)
     ax.set_xlabel("h / D")
@@ -232,7 +243,8 @@ def plot_collapse(runs, path_anti, path_sym):
     for what, path in (("anti", path_anti), ("sym", path_sym)):
         fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
         for ax, s in zip(axes, (main_dem(runs), "fem_full")):
-            sel = series(runs, s, True) + [t for t in series(runs, s, True, free_surface=True) if t[0] == "free_surface_h2"]
+            sel = series(runs, s, True) + [t for t in series(runs, s, True, free_surface=True)
+                                           if t[0] == "free_surface_h2"]
             sel.sort(key=lambda t: t[1]["hD"])
             hmax = max([r["hD"] for _, r in sel] + [1])
             for name, r in sel:
@@ -281,7 +293,8 @@ def plot_hydrostatic(runs, path):
     ax.axhspan(-0.5, 0.5, color="0.9")
     ax.set_xlabel("whole-width sigma_yy / (rho g D)")
     ax.set_ylabel("y / D (intruder centre at 0; grey: its height)")
-    ax.set_title(f"{TITLES[main_dem(runs)]}: points measured; solid lid + weight above (+ lift below);\n"
+    ax.set_title(f"{TITLES[main_dem(runs)]}: points measured; "
+                 "solid lid + weight above (+ lift below);\n"
                  "dashed the case's P0 - rho g y", fontsize=8)
     ax.legend(fontsize=6)
     fig.tight_layout()
@@ -291,7 +304,8 @@ def plot_hydrostatic(runs, path):
 
 def table(runs, out):
     rows = []
-    for (s, name), r in sorted(runs.items(), key=lambda t: (t[0][0], not t[1]["gradient"], t[1]["hD"], t[0][1])):
+    for (s, name), r in sorted(runs.items(), key=lambda t: (t[0][0], not t[1]["gradient"],
+                                                            t[1]["hD"], t[0][1])):
         bb = bed_balance(r) if s.startswith("dem") else None
         ob = overburden(r) if s.startswith("dem") else None
         rows.append({
@@ -299,22 +313,27 @@ def table(runs, out):
             "P0_Pa": r["P0"], "drag_N_per_m": r["drag"], "drag_err": r["drag_err"],
             "lift_N_per_m": r["lift"], "lift_err": r["lift_err"],
             "L_over_B": r["lift"] / r["B"], "L_over_B_err": r["lift_err"] / r["B"],
-            "C_d": r["Cd"], "C_d_err": r["drag_err"] / (r["rgD"] * r["h"]) if r["h"] > 0 else float("nan"),
-            "lid_mean_over_target": r["lid_mean"] / r["lid_target"] if r["lid_target"] > 0 else float("nan"),
+            "C_d": r["Cd"],
+            "C_d_err": r["drag_err"] / (r["rgD"] * r["h"]) if r["h"] > 0 else float("nan"),
+            "lid_mean_over_target": (r["lid_mean"] / r["lid_target"] if r["lid_target"] > 0
+                                     else float("nan")),
             "far_field_over_P0": r["far_field"] / r["P0"],
             "overburden_over_P0": ob["load"] / r["P0"] if ob else float("nan"),
             "real_bed_above_centre_D": ob["surface"] / r["D"] if ob else float("nan"),
             "balance_max_dev": bb["max_dev"] if bb else float("nan"),
             "gradient_over_bed_rho_g": bb["slope_over_bed"] if bb else float("nan"),
             "gradient_over_nominal_rho_g": bb["slope_over_nominal"] if bb else float("nan"),
-            "hydrostatic_weighting_L_over_B": hydrostatic_weighting(r) if not r["gradient"] else float("nan"),
+            "hydrostatic_weighting_L_over_B": (hydrostatic_weighting(r) if not r["gradient"]
+                                               else float("nan")),
             "wall_s": r["wall_s"],
         })
     with open(os.path.join(out, "depth_study.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    print("| series | run | h/D | P0 (Pa) | drag (N/m) | lift (N/m) | L/B | C_d | lid p/target | far-field p/P0 | overburden/P0 | real bed above centre (D) | force balance: max dev | gradient / (rho_bed g), / (rho g) | hydrostatic weighting L/B | wall (s) |")
+    print("| series | run | h/D | P0 (Pa) | drag (N/m) | lift (N/m) | L/B | C_d | lid p/target | "
+          "far-field p/P0 | overburden/P0 | real bed above centre (D) | force balance: max dev | "
+          "gradient / (rho_bed g), / (rho g) | hydrostatic weighting L/B | wall (s) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for x in rows:
         pm = lambda v, e: f"{v:.4g} +- {e:.2g}" if e > 0 else f"{v:.4g}"
@@ -322,9 +341,12 @@ def table(runs, out):
         print(f"| {x['series']} | {x['run']} | {x['h_over_D']:g} | {x['P0_Pa']:.4g} | "
               f"{pm(x['drag_N_per_m'], x['drag_err'])} | {pm(x['lift_N_per_m'], x['lift_err'])} | "
               f"{pm(x['L_over_B'], x['L_over_B_err'])} | {pm(x['C_d'], x['C_d_err'])} | "
-              f"{nan(x['lid_mean_over_target'])} | {nan(x['far_field_over_P0'])} | {nan(x['overburden_over_P0'])} | "
-              f"{nan(x['real_bed_above_centre_D'], '{:.2f}')} | {nan(x['balance_max_dev'], '{:.1%}')} | "
-              f"{nan(x['gradient_over_bed_rho_g'], '{:.2f}')}, {nan(x['gradient_over_nominal_rho_g'], '{:.2f}')} | "
+              f"{nan(x['lid_mean_over_target'])} | {nan(x['far_field_over_P0'])} | "
+              f"{nan(x['overburden_over_P0'])} | "
+              f"{nan(x['real_bed_above_centre_D'], '{:.2f}')} | "
+              f"{nan(x['balance_max_dev'], '{:.1%}')} | "
+              f"{nan(x['gradient_over_bed_rho_g'], '{:.2f}')}, "
+              f"{nan(x['gradient_over_nominal_rho_g'], '{:.2f}')} | "
               f"{nan(x['hydrostatic_weighting_L_over_B'], '{:.2f}')} | "
               f"{x['wall_s']:.0f} |")
 
@@ -336,7 +358,9 @@ def collapse_table(runs):
     curve's rms), as it is and less the antisymmetric part of the no-gradient run at the same
     P0 (what the gradient adds), with the DEM's noise on that scale (rms of sigma_n_stderr /
     (rho g D), of the two runs combined for the difference)."""
-    print("\n| series | run | h/D | sym/P0 vs no gradient: rms diff / rms | anti/(rho g D) vs 8 D: rms diff / rms | (anti - anti no gradient)/(rho g D) vs 8 D: rms diff / rms | noise of that / rms(8 D) |")
+    print("\n| series | run | h/D | sym/P0 vs no gradient: rms diff / rms | "
+          "anti/(rho g D) vs 8 D: rms diff / rms | "
+          "(anti - anti no gradient)/(rho g D) vs 8 D: rms diff / rms | noise of that / rms(8 D) |")
     print("|---|---|---|---|---|---|---|")
     for s in ("dem", "dem_d6", "dem_d6_pooled", "fem_full"):
         ref = dict(series(runs, s, True)).get("heavy_lid_h8")
@@ -367,24 +391,30 @@ def pooled_table(runs):
                  key=lambda t: (not t[1]["gradient"], t[1]["hD"], t[0]))
     if not sel:
         return
-    print("\n| run | h/D | g / 9.81 | beds | L/B | lift error: between beds / within beds (N/m) | (L - L no gradient) / B | C_d | drag error: between / within (N/m) |")
+    print("\n| run | h/D | g / 9.81 | beds | L/B | lift error: between beds / within beds (N/m) | "
+          "(L - L no gradient) / B | C_d | drag error: between / within (N/m) |")
     print("|---|---|---|---|---|---|---|---|---|")
     g2 = lambda v: "-" if v != v else f"{v:.2g}"
     for n, r in sel:
         cd = r["rgD"] * r["h"]
         p = nograd_partner(runs, "dem_d6_pooled", r) if r["gradient"] else None
-        net = (f"{(r['lift'] - p['lift']) / r['B']:.2f} +- {math.hypot(r['lift_err'], p['lift_err']) / r['B']:.2f}"
+        net = (f"{(r['lift'] - p['lift']) / r['B']:.2f} +- "
+               f"{math.hypot(r['lift_err'], p['lift_err']) / r['B']:.2f}"
                if p is not None else "-")
-        print(f"| {n} | {r['hD']:g} | {r['g_ref'] / 9.81:.3g} | {r['beds']} | {r['lift'] / r['B']:.2f} +- "
-              f"{r['lift_err'] / r['B']:.2f} | {g2(r['lift_err_between'])} / {g2(r['lift_err_within'])} | {net} | "
+        print(f"| {n} | {r['hD']:g} | {r['g_ref'] / 9.81:.3g} | {r['beds']} | "
+              f"{r['lift'] / r['B']:.2f} +- "
+              f"{r['lift_err'] / r['B']:.2f} | {g2(r['lift_err_between'])} / "
+              f"{g2(r['lift_err_within'])} | {net} | "
               f"{r['drag'] / cd:.3f} +- {r['drag_err'] / cd:.3f} | "
               f"{g2(r['drag_err_between'])} / {g2(r['drag_err_within'])} |")
     byname = dict(sel)
-    fixed_p0 = [byname[n] for n in ("heavy_lid_h8", "heavy_lid_h16_g2", "heavy_lid_h32_g4") if n in byname]
+    fixed_p0 = [byname[n] for n in ("heavy_lid_h8", "heavy_lid_h16_g2", "heavy_lid_h32_g4")
+                if n in byname]
     if len(fixed_p0) >= 2:
         a, ea = power_law([r["g_grains"] for r in fixed_p0], [r["lift"] for r in fixed_p0],
                           [r["lift_err"] for r in fixed_p0])
-        print(f"\nlift at the P0 of 8 D against g ({len(fixed_p0)} gravities): power {a:.2f} +- {ea:.2f} "
+        print(f"\nlift at the P0 of 8 D against g ({len(fixed_p0)} gravities): "
+              f"power {a:.2f} +- {ea:.2f} "
               f"({abs(a - 1) / ea:.1f} errors from 1)")
         # the split at the level of the force: L = L(P0, no gradient) + b g at fixed P0, with
         # the lid-only run at the same P0 as the point g = 0
@@ -392,44 +422,55 @@ def pooled_table(runs):
         if len(pts) >= 3:
             a0, ea0, b, eb, chi = line_fit([r["g_grains"] for r in pts], [r["lift"] for r in pts],
                                            [r["lift_err"] for r in pts])
-            print(f"lift at the P0 of 8 D = a + b g ({len(pts)} points, g = 0 the lid-only run): a = {a0:.4g} +- "
-                  f"{ea0:.2g} N/m, b g(9.81) = {b * 9.81:.4g} +- {eb * 9.81:.2g} N/m ({b * 9.81 / fixed_p0[0]['B']:.2f} +- "
+            print(f"lift at the P0 of 8 D = a + b g ({len(pts)} points, g = 0 the lid-only run): "
+                  f"a = {a0:.4g} +- "
+                  f"{ea0:.2g} N/m, b g(9.81) = {b * 9.81:.4g} +- {eb * 9.81:.2g} N/m "
+                  f"({b * 9.81 / fixed_p0[0]['B']:.2f} +- "
                   f"{eb * 9.81 / fixed_p0[0]['B']:.2f} B), chi2/dof {chi:.2f}")
             if "lid_only_h8" in byname:
                 base = byname["lid_only_h8"]
-                net = [(r["g_grains"], r["lift"] - base["lift"], math.hypot(r["lift_err"], base["lift_err"]))
+                net = [(r["g_grains"], r["lift"] - base["lift"],
+                        math.hypot(r["lift_err"], base["lift_err"]))
                        for r in fixed_p0]
                 if all(v > 0 for _, v, _ in net):
                     p, ep = power_law(*zip(*net))
-                    print(f"lift minus the lid-only lift at that P0 against g: power {p:.2f} +- {ep:.2f}")
+                    print("lift minus the lid-only lift at that P0 against g: "
+                          f"power {p:.2f} +- {ep:.2f}")
     for n, r in sel:
         if not r["gradient"]:
-            print(f"no gradient, {n}: L/B = {r['lift'] / r['B']:.2f} +- {r['lift_err'] / r['B']:.2f} "
+            print(f"no gradient, {n}: L/B = {r['lift'] / r['B']:.2f} +- "
+                  f"{r['lift_err'] / r['B']:.2f} "
                   f"({abs(r['lift']) / r['lift_err']:.1f} errors from 0)")
     for wide in [n for n in byname if n.endswith("_bigbox") and n[:-len("_bigbox")] in byname]:
         r1, r2 = byname[wide[:-len("_bigbox")]], byname[wide]
         for k in ("lift", "drag"):
             d = (r2[k] - r1[k]) / r1["B"]
             e = math.hypot(r1[k + "_err"], r2[k + "_err"]) / r1["B"]
-            print(f"box check, {wide[:-len('_bigbox')]}, {k}: 18 D wide ({r2['beds']} beds) less 12 D wide "
+            print(f"box check, {wide[:-len('_bigbox')]}, {k}: 18 D wide ({r2['beds']} beds) "
+                  "less 12 D wide "
                   f"({r1['beds']} beds) = {d:+.2f} +- {e:.2f} B ({abs(d) / e:.1f} errors; "
                   f"{100 * (r2[k] / r1[k] - 1):+.0f}%)")
     # the same check on the surface stresses (the files' 20-100 d averages): the split's two
     # parts in the two boxes, rms difference over the 18 D box's rms, with the noise on that scale
     for wide in [n for n in byname if n.endswith("_bigbox") and byname[n]["gradient"]]:
         r1, r2 = byname[wide[:-len("_bigbox")]], byname[wide]
-        p1, p2 = nograd_partner(runs, "dem_d6_pooled", r1), nograd_partner(runs, "dem_d6_pooled", r2)
+        p1, p2 = (nograd_partner(runs, "dem_d6_pooled", r1),
+                  nograd_partner(runs, "dem_d6_pooled", r2))
         if p1 is None or p2 is None or r1["sn_err"] is None:
             continue
         s2 = r2["sym"] / r2["P0"]
         g1, g2 = (r1["anti"] - p1["anti"]) / r1["rgD"], (r2["anti"] - p2["anti"]) / r2["rgD"]
         noise_s = rms(np.hypot(r1["sn_err"], r2["sn_err"]) / r1["P0"]) / rms(s2)
-        noise_g = rms(np.sqrt(r1["sn_err"] ** 2 + r2["sn_err"] ** 2 + p1["sn_err"] ** 2 + p2["sn_err"] ** 2)
+        noise_g = rms(np.sqrt(r1["sn_err"] ** 2 + r2["sn_err"] ** 2 + p1["sn_err"] ** 2
+                              + p2["sn_err"] ** 2)
                       / r1["rgD"]) / rms(g2)
-        print(f"box check, {wide[:-len('_bigbox')]}, surface stress (20-100 d): symmetric part / P0 differs by "
-              f"{rms(r1['sym'] / r1['P0'] - s2) / rms(s2):.3f} rms (noise {noise_s:.3f}); the gradient's "
-              f"antisymmetric part / (rho g D) by {rms(g1 - g2) / rms(g2):.3f} (noise {noise_g:.3f})")
-    deep = [(n, byname[n]) for n in ("heavy_lid_h6", "heavy_lid_h8", "heavy_lid_h12") if n in byname]
+        print(f"box check, {wide[:-len('_bigbox')]}, surface stress (20-100 d): "
+              "symmetric part / P0 differs by "
+              f"{rms(r1['sym'] / r1['P0'] - s2) / rms(s2):.3f} rms (noise {noise_s:.3f}); "
+              "the gradient's antisymmetric part / (rho g D) by "
+              f"{rms(g1 - g2) / rms(g2):.3f} (noise {noise_g:.3f})")
+    deep = [(n, byname[n]) for n in ("heavy_lid_h6", "heavy_lid_h8", "heavy_lid_h12")
+            if n in byname]
     for (n1, r1), (n2, r2) in zip(deep, deep[1:]):
         d = r2["lift"] / r2["B"] - r1["lift"] / r1["B"]
         e = math.hypot(r1["lift_err"] / r1["B"], r2["lift_err"] / r2["B"])
@@ -442,9 +483,11 @@ def window_table(runs):
     bed ahead of the intruder, which has not yet been crossed, shortens. In a periodic box of
     length W the intruder has W - travel of such bed ahead of it."""
     wins = ((20, 40), (40, 60), (60, 80), (80, 100))
-    print("\n| run | box width (D) | beds | " + " | ".join(f"L/B, travel {a}-{b} d" for a, b in wins) + " |")
+    print("\n| run | box width (D) | beds | "
+          + " | ".join(f"L/B, travel {a}-{b} d" for a, b in wins) + " |")
     print("|---|---|---|" + "---|" * len(wins))
-    for (s, n), r in sorted(runs.items(), key=lambda t: (not t[1]["gradient"], t[1]["width"], t[1]["hD"], t[0][1])):
+    for (s, n), r in sorted(runs.items(), key=lambda t: (not t[1]["gradient"], t[1]["width"],
+                                                         t[1]["hD"], t[0][1])):
         if s != "dem_d6":
             continue
         beds = [r] + [runs[(e, n)] for e in BEDS if (e, n) in runs]
@@ -467,7 +510,8 @@ def main():
         try:
             window = (float(args[k + 1]), float(args[k + 2]))
         except (IndexError, ValueError):
-            print("--window needs two numbers: the travel window in grain diameters", file=sys.stderr)
+            print("--window needs two numbers: the travel window in grain diameters",
+                  file=sys.stderr)
             return 2
         del args[k:k + 3]
     if not args or args[0] in ("-h", "--help"):

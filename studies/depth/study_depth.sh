@@ -2,7 +2,8 @@
 # The depth sweep of docs/results-guillard2014.md (issue 13): Guillard et al. 2014's lift and drag
 # against depth in 2D, DEM and FEM on the same domains, with the gradient (heavy lid, free surface)
 # and without it (gravity on the lid only).
-#   studies/depth/study_depth.sh [dem|fem|plots|all|rigid|d6|d6beds|box] [OUT_DIR]  (default all, runs/depth_study)
+#   studies/depth/study_depth.sh [dem|fem|plots|all|rigid|d6|d6beds|box] [OUT_DIR]
+#     (default all, runs/depth_study)
 # rigid: the lid scenes again with a rigid lid (domain.lid = "rigid"), into OUT_DIR/dem_rigid.
 # d6: the whole DEM sweep again with 6 D of bed below the centre instead of 4 D (the box of
 # docs/results-guillard2014.md, its forces read over 20-60 d of travel: plots passes --window),
@@ -33,17 +34,22 @@ configs() {
   # contacts of the intruder past 10% overlap with these soft grains, E = 5 MPa: the run stops)
   echo "heavy_lid_h16_g2 --set scene.depth=$(depth 16) --set scene.gravity=[0.0,-4.905]"
   echo "heavy_lid_h32_g4 --set scene.depth=$(depth 32) --set scene.gravity=[0.0,-2.4525]"
-  echo "free_surface_h2 --set 'scene.depth_mode=\"free_surface\"' --set 'domain.walls=[\"bottom\"]' --set scene.depth=$(depth 2)"
+  echo "free_surface_h2 --set 'scene.depth_mode=\"free_surface\"'" \
+    "--set 'domain.walls=[\"bottom\"]' --set scene.depth=$(depth 2)"
   # mode i against mode ii at h = 4 D: a real 4 D bed above the intruder (gradient.toml's box)
-  echo "free_surface_h4 --set 'scene.depth_mode=\"free_surface\"' --set 'domain.walls=[\"bottom\"]' --set scene.depth=$(depth 4)"
+  echo "free_surface_h4 --set 'scene.depth_mode=\"free_surface\"'" \
+    "--set 'domain.walls=[\"bottom\"]' --set scene.depth=$(depth 4)"
   for h in 2 4 6 8 12; do
     echo "lid_only_h$h --set 'scene.depth_mode=\"lid_only\"' --set scene.depth=$(depth $h)"
   done
   # the box check: h = 8 D on a box 1.5 times wider with 6 D of bed below instead of 4 D
-  echo "heavy_lid_h8_bigbox --set scene.depth=$(depth 8) --set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
+  echo "heavy_lid_h8_bigbox --set scene.depth=$(depth 8) --set 'domain.x_range=[-0.135,0.135]'" \
+    "--set 'domain.y_range=[-0.09,0.03]'"
   # and in that box: the shallowest lid depth, and the no-gradient lift at the P0 of 8 D
-  echo "heavy_lid_h4_bigbox --set scene.depth=$(depth 4) --set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
-  echo "lid_only_h8_bigbox --set 'scene.depth_mode=\"lid_only\"' --set scene.depth=$(depth 8) --set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
+  echo "heavy_lid_h4_bigbox --set scene.depth=$(depth 4) --set 'domain.x_range=[-0.135,0.135]'" \
+    "--set 'domain.y_range=[-0.09,0.03]'"
+  echo "lid_only_h8_bigbox --set 'scene.depth_mode=\"lid_only\"' --set scene.depth=$(depth 8)" \
+    "--set 'domain.x_range=[-0.135,0.135]' --set 'domain.y_range=[-0.09,0.03]'"
 }
 
 run_one() {  # run_one SOLVER GRAVITY_TREATMENT NAME ARGS...
@@ -54,7 +60,8 @@ run_one() {  # run_one SOLVER GRAVITY_TREATMENT NAME ARGS...
   local extra=()
   if [[ $treat == rigid ]]; then extra=(--set 'domain.lid="rigid"')
   elif [[ $treat == d6 ]]; then extra=(--set 'domain.y_range=[-0.09,0.03]')
-  elif [[ $treat == d6_s* ]]; then extra=(--set 'domain.y_range=[-0.09,0.03]' --set "dem.seed=${treat#d6_s}")
+  elif [[ $treat == d6_s* ]]; then
+    extra=(--set 'domain.y_range=[-0.09,0.03]' --set "dem.seed=${treat#d6_s}")
   elif [[ -n "$treat" ]]; then extra=(--set "continuum.gravity_treatment=\"$treat\""); fi
   if ! "$G" run "$CASE" --solver "$solver" --threads 1 --quiet --out "$dir" "$@" "${extra[@]}" \
       > "$dir/log.txt" 2>&1; then

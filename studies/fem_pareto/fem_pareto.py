@@ -71,7 +71,8 @@ def main(argv):
             for a, b in zip(runs, runs[1:]) if a["dofs"] >= 3000)
         print(f"\n{name}: time against unknowns exponent {slope(runs):.2f} (least squares; "
               f"level to level from 3,000 unknowns: {steps}; target <= 1.15)")
-        print("| unknowns | drag (N/m) | error | lift (N/m) | error | nonlinear steps | linear solves | wall (s) |")
+        print("| unknowns | drag (N/m) | error | lift (N/m) | error | nonlinear steps | "
+              "linear solves | wall (s) |")
         print("| --- | --- | --- | --- | --- | --- | --- | --- |")
         for r in runs:
             ed = abs(r["drag"] - ref["drag"][0]) / abs(ref["drag"][0])

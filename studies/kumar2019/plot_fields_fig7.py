@@ -167,7 +167,8 @@ def descriptors(r):
     th = np.degrees(np.arctan2(Y, X))
     shell = outside & (R2 < 0.5625) & (phi > 0.05)
     edges = np.arange(-180, 181, 15)
-    prof = np.array([tg[shell & (th >= a) & (th < b)].mean() for a, b in zip(edges[:-1], edges[1:])])
+    prof = np.array([tg[shell & (th >= a) & (th < b)].mean()
+                     for a, b in zip(edges[:-1], edges[1:])])
     k = int(np.nanargmax(prof))
     out["tg_shell_theta"] = float(0.5 * (edges[k] + edges[k + 1]))
     out["tg_shell_max"] = float(prof[k])
@@ -273,11 +274,14 @@ def main(argv):
     for r, d in zip(runs, rows):
         nsnap = r.get("snapshots") or snapshots(r["path"])
         m = r["means"]
+        ld_err = abs(m["lift"] / m["drag"]) * np.hypot(m.get("lift_stderr", 0) / m["lift"],
+                                                       m.get("drag_stderr", 0) / m["drag"])
         print(f"\nOmega = {d['Omega']:g}  ({r['path']}; snapshots {nsnap}; "
               f"wall {r['wall_seconds']:.0f} s; L/D = {m['lift'] / m['drag']:+.3f} "
-              f"+- {abs(m['lift'] / m['drag']) * np.hypot(m.get('lift_stderr', 0) / m['lift'], m.get('drag_stderr', 0) / m['drag']):.3f})")
+              f"+- {ld_err:.3f})")
         print(f"  Phi_b (upstream) {d['phi_b']:.3f}")
-        print(f"  far field (|y| > 2 D): mean v_x*/V0 {d['vx_far']:+.3f} (-1 if the bed stayed at rest)")
+        print(f"  far field (|y| > 2 D): mean v_x*/V0 {d['vx_far']:+.3f} "
+              "(-1 if the bed stayed at rest)")
         print(f"  wake (Phi < Phi_b/2, connected to the rear): area {d['wake_area']:.2f} D^2, "
               f"y from {d['wake_ylo']:+.2f} to {d['wake_yhi']:+.2f} D, y-centroid "
               f"{d['wake_yc']:+.3f} D ({side(d['wake_yc'], r['omega'])}), reaches x = "
@@ -310,7 +314,8 @@ def main(argv):
                   f"{e['wake_yc']:+.3f} D, deficit centroid {e['def_yc']:+.3f} D, deficit width at "
                   f"x = -1 D {e['defwidth@-1']:.2f} D, v_y*/V0 behind {e['vy_behind']:+.3f}, T_g "
                   f"first layer: max bin at {e['tg_shell_theta']:+.1f} deg, (y>0)/(y<0) "
-                  f"{e['tg_shell_up_over_down']:.2f}; L/D {b['means']['lift'] / b['means']['drag']:+.3f}")
+                  f"{e['tg_shell_up_over_down']:.2f}; "
+                  f"L/D {b['means']['lift'] / b['means']['drag']:+.3f}")
 
 
 if __name__ == "__main__":

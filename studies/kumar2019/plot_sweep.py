@@ -149,7 +149,8 @@ def main(argv):
         # Kumar eq. (15) at mu = 0.5: kappa 0.9 (Phi 0.818) and 0.95 (Phi 0.352), as -L/D
         for kappa, phi, c in ((0.9, 0.818, "C0"), (0.95, 0.352, "C1")):
             ax.axhline(-(kappa * 0.5 - (1 - kappa) / 0.5), color=c, ls=":", lw=1,
-                       label=f"Kumar eq. 15, Phi {phi}: L/D = -{kappa * 0.5 - (1 - kappa) / 0.5:.3f}")
+                       label=f"Kumar eq. 15, Phi {phi}: "
+                             f"L/D = -{kappa * 0.5 - (1 - kappa) / 0.5:.3f}")
         ax.set_xlabel("spin ratio Omega = omega R / V0")
         ax.set_ylabel("L / D  (negative: along -omega x V)")
     elif mode == "drag-omega":

@@ -5,7 +5,8 @@
 # fields_slow (the same at V0 = 0.25 m/s), phi0585 (Fig. 3b), seeds080 (two more Phi 0.8
 # beds), plots, or all (default, which leaves out fields_slow);
 # dense and dilute can run at the same time on two cores. About 15 minutes each on one core;
-# fields about 10 minutes, fields_slow 6, phi0585 9, seeds080 18 (times in docs/results-kumar2019.md).
+# fields about 10 minutes, fields_slow 6, phi0585 9, seeds080 18 (times in
+# docs/results-kumar2019.md).
 # Plots and tables go to OUT_DIR (default runs/kumar2019); docs/img/ holds the committed copies.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -96,28 +97,35 @@ plots() {
   # Phi 0.8: seed 1 (part dense) pooled with seeds 2 and 3 (part seeds080) where present
   local phi080=("$OUT/omega_phi080/sweep.csv:Phi 0.8") phi0585=()
   for s in 2 3; do
-    [ -f "$OUT/omega_phi080_seed$s/sweep.csv" ] && phi080+=("$OUT/omega_phi080_seed$s/sweep.csv:Phi 0.8")
+    [ -f "$OUT/omega_phi080_seed$s/sweep.csv" ] &&
+      phi080+=("$OUT/omega_phi080_seed$s/sweep.csv:Phi 0.8")
   done
   for s in $SEEDS; do
-    [ -f "$OUT/omega_phi0585/seed$s/sweep.csv" ] && phi0585+=("$OUT/omega_phi0585/seed$s/sweep.csv:Phi 0.585")
+    [ -f "$OUT/omega_phi0585/seed$s/sweep.csv" ] &&
+      phi0585+=("$OUT/omega_phi0585/seed$s/sweep.csv:Phi 0.585")
   done
-  $PY studies/kumar2019/plot_sweep.py ld-omega "$OUT/ld_omega.png" "${phi080[@]}" "${phi035[@]}" "${phi0585[@]}"
-  $PY studies/kumar2019/plot_sweep.py drag-speed "$OUT/drag_speed.png" "$OUT/speed_phi080/sweep.csv:Phi 0.8, Omega 0"
+  $PY studies/kumar2019/plot_sweep.py ld-omega "$OUT/ld_omega.png" "${phi080[@]}" "${phi035[@]}" \
+      "${phi0585[@]}"
+  $PY studies/kumar2019/plot_sweep.py drag-speed "$OUT/drag_speed.png" \
+      "$OUT/speed_phi080/sweep.csv:Phi 0.8, Omega 0"
   $PY studies/kumar2019/plot_sweep.py ld-mu "$OUT/ld_mu.png" "${mu[@]}"
   local r="$OUT/omega_phi080"
-  $PY studies/kumar2019/plot_distributions.py "$OUT/distributions_phi080.png" "$r/intruder.omega=0:Omega 0" \
-      "$r/intruder.omega=20:Omega 1" "$r/intruder.omega=80:Omega 4" "$r/intruder.omega=400:Omega 20"
+  $PY studies/kumar2019/plot_distributions.py "$OUT/distributions_phi080.png" \
+      "$r/intruder.omega=0:Omega 0" "$r/intruder.omega=20:Omega 1" \
+      "$r/intruder.omega=80:Omega 4" "$r/intruder.omega=400:Omega 20"
   if [ -d "$OUT/fields_phi080" ]; then
     local cols=() w
     for w in 0 20 200; do  # Omega 0, 1, 10; the beds present pooled
       local c="$OUT/fields_phi080/intruder.omega=$w" s
       for s in 2 3 4; do
-        [ -d "$OUT/fields_phi080_seed$s/intruder.omega=$w" ] && c+="+$OUT/fields_phi080_seed$s/intruder.omega=$w"
+        [ -d "$OUT/fields_phi080_seed$s/intruder.omega=$w" ] &&
+          c+="+$OUT/fields_phi080_seed$s/intruder.omega=$w"
       done
       cols+=("$c")
     done
     $PY studies/kumar2019/plot_fields_fig7.py "$OUT/fields_fig7.png" "${cols[@]}"
-    $PY studies/kumar2019/plot_fields_fig7.py --mirror "$OUT/fields_fig7_mirrored.png" "${cols[@]}" > /dev/null
+    $PY studies/kumar2019/plot_fields_fig7.py --mirror "$OUT/fields_fig7_mirrored.png" \
+        "${cols[@]}" > /dev/null
   fi
   local fs="$OUT/fields_phi080_v025"
   if [ -d "$fs/intruder.omega=50" ]; then
@@ -135,5 +143,6 @@ case "$PART" in
   seeds080) seeds080 ;;
   plots) plots ;;
   all) dense; dilute; fields; phi0585; seeds080; plots ;;
-  *) echo "PART must be dense, dilute, fields, fields_slow, phi0585, seeds080, plots or all" >&2; exit 2 ;;
+  *) echo "PART must be dense, dilute, fields, fields_slow, phi0585, seeds080, plots or all" >&2
+     exit 2 ;;
 esac

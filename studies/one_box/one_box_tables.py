@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""The tables of the cross-check on one box (studies/one_box/study_one_box.sh): for each scene, FEM / DEM
+"""The tables of the cross-check on one box (studies/one_box/study_one_box.sh): for each scene, \
+FEM / DEM
 for drag, lift, torque and L/D with the difference in units of the combined error (the DEM's
 block standard error, the FEM's mesh-error estimate), and the rms difference of sigma_n(theta)
 and sigma_t(theta) over P0; the same for the continuum's former box (continuum.box_half_size).
@@ -56,7 +57,8 @@ def ratio_cell(a, ea, b, eb):
 
 def ld(drag, edrag, lift, elift):
     r = lift / drag
-    e = abs(r) * math.hypot((edrag or 0) / drag, (elift or 0) / lift) if lift != 0 else (elift or 0) / drag
+    e = (abs(r) * math.hypot((edrag or 0) / drag, (elift or 0) / lift) if lift != 0
+         else (elift or 0) / drag)
     return r, e
 
 
@@ -96,7 +98,8 @@ SCENES = [
 ]
 VARIANTS = [("fem", "the DEM's box (far field auto)"), ("fem_open", "open far field"),
             ("fem_periodic", "periodic far field"),
-            ("fem_settled", "top edge where the DEM's lid settled (continuum.bed_top)"), ("fem_noslip", "no-slip intruder"),
+            ("fem_settled", "top edge where the DEM's lid settled (continuum.bed_top)"),
+            ("fem_noslip", "no-slip intruder"),
             ("fem_old", "the former box (box_half_size)")]
 
 
@@ -116,7 +119,8 @@ def wake_windows(root):
         d = f.diagnostics
         if "wake_travel" not in d:
             continue
-        wake, lo, hi = float(d["wake_travel"]), float(d["mean_travel_from"]), float(d["mean_travel_to"])
+        wake, lo, hi = (float(d["wake_travel"]), float(d["mean_travel_from"]),
+                        float(d["mean_travel_to"]))
         travel, (drag, lift), torque = f.travel(), f.drag_lift(), f["forces/torque"]
         fem = {}
         for v in ("fem_open", "fem_periodic", "fem"):
@@ -170,7 +174,8 @@ def main():
     for variant, title in VARIANTS:
         rows = []
         for name, label in SCENES:
-            r = row(grainlift, os.path.join(root, name, "dem"), os.path.join(root, name, variant), label)
+            r = row(grainlift, os.path.join(root, name, "dem"), os.path.join(root, name, variant),
+                    label)
             if r:
                 rows.append(r)
         if rows:
@@ -178,7 +183,8 @@ def main():
             print(HEADER)
             print("\n".join(rows))
     # the depth sweep: lift in buoyancies and C_d, FEM against the DEM's pooled beds
-    print("\n### Depth sweep: FEM (the DEM's box, far field auto) against the DEM pooled over beds\n")
+    print("\n### Depth sweep: FEM (the DEM's box, far field auto) against the DEM pooled "
+          "over beds\n")
     print("| scene | P0 (Pa) | DEM L/B | FEM L/B | FEM/DEM lift (z) | DEM C_d | FEM C_d | "
           "FEM/DEM drag (z) | FEM far field | FEM former box: L/B, C_d |")
     print("|---" * 10 + "|")
@@ -193,15 +199,19 @@ def main():
         old_cell = "-"
         if os.path.exists(old):
             so = summary(os.path.dirname(old), "fem")
-            old_cell = f"{so.get('lift_over_buoyancy', float('nan')):.2f}, {so.get('drag_coefficient', float('nan')):.2f}"
+            old_cell = (f"{so.get('lift_over_buoyancy', float('nan')):.2f}, "
+                        f"{so.get('drag_coefficient', float('nan')):.2f}")
         lb = s.get("lift_over_buoyancy", float("nan"))
         d = io.read(fem_dir, "fem").diagnostics
         far = io.text(d["far_field"])
         # the mesh-error estimate (the change from the next coarser level)
         mesh_d, mesh_l = float(d.get("drag_mesh_error", 0.0)), float(d.get("lift_mesh_error", 0.0))
-        print(f"| {name} | {s['pressure_scale']:.4g} | {dl / buoy:.2f} +- {edl / buoy:.2f} | {lb:.2f} | "
-              f"{ratio_cell(dl, edl, s['lift'], mesh_l)} | {dd / cd_scale:.2f} +- {edd / cd_scale:.2f} | "
-              f"{s['drag_coefficient']:.2f} | {ratio_cell(dd, edd, s['drag'], mesh_d)} | {far} | {old_cell} |")
+        print(f"| {name} | {s['pressure_scale']:.4g} | {dl / buoy:.2f} +- {edl / buoy:.2f} | "
+              f"{lb:.2f} | "
+              f"{ratio_cell(dl, edl, s['lift'], mesh_l)} | "
+              f"{dd / cd_scale:.2f} +- {edd / cd_scale:.2f} | "
+              f"{s['drag_coefficient']:.2f} | {ratio_cell(dd, edd, s['drag'], mesh_d)} | "
+              f"{far} | {old_cell} |")
 
 
 if __name__ == "__main__":

@@ -6,7 +6,8 @@
 #   studies/one_box/study_one_box.sh [dem|fem|tables|all] [OUT_DIR]   (default all, runs/one_box)
 # dem: 12 DEM runs, two at a time, one thread each (~15 min on 2 cores): the demo at six spin
 #   ratios, the 16 D x 9.6 D box at Omega 0, 2, 4, the depth sweep's h = 8 D with and without
-#   the gradient, Guillard's gradient case. fem: ~40 solves (~10 min). tables: python3 studies/one_box/one_box_tables.py OUT_DIR.
+#   the gradient, Guillard's gradient case. fem: ~40 solves (~10 min). tables: python3
+#   studies/one_box/one_box_tables.py OUT_DIR.
 # A run whose result exists is skipped (delete its folder to rerun).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -31,11 +32,14 @@ scenes() {
   done
   for h in 4 6 8 12; do
     echo "heavy_lid_h$h $DEPTH $D6 --set scene.depth=$(awk -v h=$h 'BEGIN{printf "%.6g", h*0.015}')"
-    echo "lid_only_h$h $DEPTH $D6 --set 'scene.depth_mode=\"lid_only\"' --set scene.depth=$(awk -v h=$h 'BEGIN{printf "%.6g", h*0.015}')"
+    echo "lid_only_h$h $DEPTH $D6 --set 'scene.depth_mode=\"lid_only\"'" \
+      "--set scene.depth=$(awk -v h=$h 'BEGIN{printf "%.6g", h*0.015}')"
   done
   # Guillard's gradient case (free surface 4 D above, a wall 4 D below), its calibrated law, ref 3
-  echo "gradient cases/guillard2014/gradient.toml --set 'continuum.rheology_file=\"rheology.toml\"' --set continuum.refinement=3"
-  echo "free_surface_h2 $DEPTH $D6 --set 'scene.depth_mode=\"free_surface\"' --set 'domain.walls=[\"bottom\"]' --set scene.depth=0.03"
+  echo "gradient cases/guillard2014/gradient.toml" \
+    "--set 'continuum.rheology_file=\"rheology.toml\"' --set continuum.refinement=3"
+  echo "free_surface_h2 $DEPTH $D6 --set 'scene.depth_mode=\"free_surface\"'" \
+    "--set 'domain.walls=[\"bottom\"]' --set scene.depth=0.03"
 }
 # the scenes the DEM runs (the rest of the depth sweep's DEM is docs/results-guillard2014.md's)
 dem_scenes() { scenes | grep -E '^(demo_|big_|heavy_lid_h8 |lid_only_h8 |gradient )'; }
@@ -53,7 +57,8 @@ run_one() {  # run_one DIR SOLVER CASE ARGS...
   local dir=$1 solver=$2 case=$3; shift 3
   [[ -f "$dir/$solver.h5" ]] && return 0
   mkdir -p "$dir"
-  if ! eval "\"$G\" run $case --solver $solver --threads 1 --quiet --out \"$dir\" $*" > "$dir/log.txt" 2>&1; then
+  if ! eval "\"$G\" run $case --solver $solver --threads 1 --quiet --out \"$dir\" $*" \
+      > "$dir/log.txt" 2>&1; then
     echo "FAILED: $dir (see $dir/log.txt)" >&2
     return 0
   fi
@@ -73,7 +78,8 @@ fi
 
 if [[ $PART == fem || $PART == all ]]; then
   scenes | while read -r name case args; do
-    run_one "$O/$name/fem" fem "$case" "$args"                                  # the DEM's box, far field auto
+    # the DEM's box, far field auto
+    run_one "$O/$name/fem" fem "$case" "$args"
     case $name in demo_o0|demo_o2|big_*|heavy_lid_h8|lid_only_h8|gradient)
       run_one "$O/$name/fem_old" fem "$case" "$args $(old_box "$name")" ;;      # the former box
     esac

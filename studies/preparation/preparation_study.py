@@ -8,7 +8,8 @@ the bed's fingerprint: contacts per grain, share of grains within 0.001 d of a n
 area fraction of the central band and of the first ring round the intruder) and the pooled
 means per protocol (error = bed-to-bed standard deviation / sqrt(beds)).
 
-    studies/preparation/preparation_study.py build/bin/grainlift WORK [--phi 0.8 0.818] [--omega 0 5]
+    studies/preparation/preparation_study.py build/bin/grainlift WORK [--phi 0.8 0.818] \
+[--omega 0 5]
         [--seeds 1 2 3] [--protocols radius_growth wall_compression] [--set KEY=VALUE ...]
         [--doc studies/preparation/README.md --marker preparation]
 """
@@ -81,9 +82,9 @@ def main():
                     print(f"{os.path.basename(out)}: drag {s['drag']:.4g} lift {s['lift']:.4g} "
                           f"Z {fp['z']:.3g} near {fp['near']:.2f} centre {fp['centre']:.3f} "
                           f"ring1 {fp['ring1']:.3f}", flush=True)
-    t = ["Per run (+- block standard error, N/m); bed: contacts per grain Z, share of grains within "
-         "0.001 d of a neighbour, area fraction of the three bands round the intruder's height and "
-         "of the first ring (1 d) round it:\n",
+    t = ["Per run (+- block standard error, N/m); bed: contacts per grain Z, share of grains "
+         "within 0.001 d of a neighbour, area fraction of the three bands round the intruder's "
+         "height and of the first ring (1 d) round it:\n",
          "| Phi | Omega | protocol | bed | drag | lift | Z | near | centre bands | ring 1 |",
          "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:

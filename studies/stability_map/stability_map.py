@@ -6,7 +6,8 @@ cause for the DEM; the residual history for the FEM). A NaN anywhere in an outpu
 (any other exit code, a signal) or a failure without a diagnosis is a defect and makes the
 script exit 1 (the `stress` test runs it with --quick).
 
-  studies/stability_map/stability_map.py BINARY OUT_DIR [--quick] [--doc docs/stability.md --figure docs/img/stability_map.png]
+  studies/stability_map/stability_map.py BINARY OUT_DIR [--quick] [--doc docs/stability.md \
+--figure docs/img/stability_map.png]
 
 DEM grid (cases/kumar2019/reduced_phi080.toml, V0 1 m/s, Omega 2, a few d of travel): dt from
 0.01 to 0.5 of the binary collision time; contacts 10x and 100x stiffer at the case's dt; Omega
@@ -46,7 +47,8 @@ def dem_grid(quick):
     # (whose forces are compared across the grid)
     travel = ["dem.travel=3", "dem.steady_travel=1"] if quick else ["dem.travel=8",
                                                                       "dem.steady_travel=2"]
-    base = ["intruder.velocity=[1.0,0.0]", "intruder.omega=40.0", "dem.max_dt_fraction=1.0"] + travel
+    base = (["intruder.velocity=[1.0,0.0]", "intruder.omega=40.0", "dem.max_dt_fraction=1.0"]
+            + travel)
     runs = []
     for f in ([0.01, 0.1, 0.5] if quick else [0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5]):
         runs.append(("dt / t_c", f, KUMAR, base + [f"dem.dt={f * TC:.6g}"]))
@@ -143,7 +145,8 @@ def run_one(binary, out_dir, solver, what, value, case, sets, timeout):
         rec["outcome"] = "refused"
     elif code == 1:
         rec["outcome"] = "stopped"
-        if solver == "dem" and not (any(k in err for k in DIAGNOSES) and "step" in err and "grain" in err):
+        if solver == "dem" and not (any(k in err for k in DIAGNOSES) and "step" in err
+                                    and "grain" in err):
             rec["defect"] = "stopped without a diagnosis naming the step, the grain and the cause"
         if solver == "fem" and "residual" not in err:
             rec["defect"] = "stopped without the residual history"
@@ -211,7 +214,8 @@ def figure(records, path):
     ax.set_yticks(range(len(groups)))
     ax.set_yticklabels([f"{s.upper()}: {w}" for s, w in groups], fontsize=8)
     ax.set_xticks([])
-    ax.set_xlim(-0.6, max(sum(1 for r in records if (r["solver"], r["what"]) == k) for k in groups) - 0.4)
+    ax.set_xlim(-0.6, max(sum(1 for r in records if (r["solver"], r["what"]) == k)
+                          for k in groups) - 0.4)
     ax.set_ylim(-0.6, len(groups) - 0.4)
     ax.invert_yaxis()
     for name, c in colour.items():
@@ -223,7 +227,8 @@ def figure(records, path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("binary")
     ap.add_argument("out_dir")
     ap.add_argument("--quick", action="store_true", help="the small grid of the `stress` test")
@@ -246,7 +251,8 @@ def main():
         records = json.load(open(os.path.join(a.out_dir, "stability_map.json")))
     for solver, what, value, case, sets in grid:
         r = run_one(a.binary, a.out_dir, solver, what, value, case, sets, a.timeout)
-        print(f"{solver} {what} = {value}: {r['outcome']} ({r['seconds']} s){' DEFECT ' + r['defect'] if r['defect'] else ''}",
+        print(f"{solver} {what} = {value}: {r['outcome']} ({r['seconds']} s)"
+              f"{' DEFECT ' + r['defect'] if r['defect'] else ''}",
               flush=True)
         records.append(r)
     with open(os.path.join(a.out_dir, "stability_map.json"), "w") as f:

@@ -21,7 +21,8 @@ build="${2:-}"
 
 if [ "$mode" = build ]; then
   if ! command -v "$cxx" >/dev/null 2>&1; then
-    echo "SKIP: $cxx not found; the fuzz tests need clang and libFuzzer (Debian: clang libclang-rt-dev)"
+    echo "SKIP: $cxx not found; the fuzz tests need clang and libFuzzer" \
+      "(Debian: clang libclang-rt-dev)"
     exit $skip
   fi
   if [ ! -f "$build/CMakeCache.txt" ]; then
@@ -59,12 +60,15 @@ log="$scratch/fuzz.log"
 # -timeout: one input taking seconds is a finding (a hang); -error_exitcode=1: libFuzzer's
 # default, 77, is the skip code of these tests; -rss_limit_mb also bounds any one
 # allocation (malloc_limit_mb defaults to it)
-"$binary" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -error_exitcode=1 -print_final_stats=1 \
-  -artifact_prefix="$scratch/artifacts/" "$@" "$scratch/new" "$root/tests/fuzz/corpus/$corpus" \
+"$binary" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -error_exitcode=1 \
+  -print_final_stats=1 -artifact_prefix="$scratch/artifacts/" "$@" "$scratch/new" \
+  "$root/tests/fuzz/corpus/$corpus" \
   </dev/null >"$log" 2>&1
 status=$?
 # the result: executions, coverage, corpus
-grep -E "^#[0-9]+[[:space:]]+(INITED|DONE)|^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)" "$log"
+summary_re="^#[0-9]+[[:space:]]+(INITED|DONE)"
+summary_re+="|^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)"
+grep -E "$summary_re" "$log"
 found=$(find "$scratch/artifacts" -type f | head -5)
 if [ $status -ne 0 ] || [ -n "$found" ]; then
   grep -E "ERROR|runtime error|SUMMARY|==[0-9]+==|^ +#[0-9]+ " "$log" | head -40

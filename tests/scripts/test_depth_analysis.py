@@ -24,7 +24,8 @@ def bed_run(scale_syy=1.0, lift=0.0):
     above = np.array([rho_s * g * 0.8 * max(0.0, 1.5 * D - yy) for yy in y])
     syy_y = lid + above + np.where(y < 0, lift / W, 0.0)
     return {
-        "D": D, "fx": x, "fy": y, "rho": 2.05, "rho_s": rho_s, "g_grains": g, "width": W, "lift": lift,
+        "D": D, "fx": x, "fy": y, "rho": 2.05, "rho_s": rho_s, "g_grains": g, "width": W,
+        "lift": lift,
         "lid_mean": lid, "top": 2 * D,
         "fphi": np.repeat(phi_y[:, None], len(x), axis=1),
         "fsyy": scale_syy * np.repeat(syy_y[:, None], len(x), axis=1),

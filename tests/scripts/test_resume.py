@@ -72,7 +72,8 @@ class Resume(unittest.TestCase):
 
     def start_and_stop(self, out, sig):
         """Starts a run, waits for its first checkpoint, sends @p sig; returns the exit code."""
-        p = subprocess.Popen(self.cmd(out), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        p = subprocess.Popen(self.cmd(out), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True)
         ckpt = os.path.join(out, "dem.checkpoint")
         deadline = time.time() + 60
         while not os.path.exists(ckpt) and p.poll() is None and time.time() < deadline:

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""The C++ statistics module (shared/include/grainlift/shared/statistics/statistics.h) and its Python mirror
-(python/grainlift/stats.py) give the same numbers on the same input (issue 34).
+"""The C++ statistics module (shared/include/grainlift/shared/statistics/statistics.h) and its
+Python mirror (python/grainlift/stats.py) give the same numbers on the same input (issue 34).
 
 Expected, each checked to 1e-12 relative (both run the same sums in the same order; the margin
 is for a libm that rounds pow or log differently), NaN where the other has NaN, equal counts:
