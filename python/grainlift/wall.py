@@ -1,0 +1,120 @@
+"""The grains' friction at the intruder's surface: an effective wall friction mu_w measured on a
+DEM run's surface stress, and the nominal slip speed of the surface against the grains.
+
+    from grainlift import wall
+    w = wall.wall_friction(theta, sigma_n, sigma_t, sigma_n_err, sigma_t_err)
+    w.mu, w.error, w.error_independent, w.angles
+
+Signs are docs/conventions.md's: sigma_n compressive positive, sigma_t positive when the medium
+pulls the surface counter-clockwise, theta from V counter-clockwise. A Coulomb wall of friction
+mu_w that slides everywhere carries |sigma_t| = mu_w sigma_n; where it sticks, less.
+Pure numpy; no file is read here (grainlift.io reads the files)."""
+from collections import namedtuple
+
+import numpy as np
+
+#: Angles whose sigma_n is at least this fraction of the largest sigma_n enter mu_w.
+THRESHOLD = 0.5
+
+WallFriction = namedtuple("WallFriction", "mu error error_independent angles theta_lo theta_hi")
+WallFriction.__doc__ = """The effective wall friction of one surface distribution.
+
+mu: sum |sigma_t| / sum sigma_n over the angles S with sigma_n >= threshold max sigma_n, i.e.
+    the mean of the local ratio |sigma_t| / sigma_n weighted by sigma_n (the normal load);
+error: its standard error with the per-angle errors taken as fully correlated (summed
+    linearly over S, then the two relative errors in quadrature): an upper bound, since
+    neighbouring angles share contacts through the kernel and blocks load every angle together;
+    NaN without per-angle errors;
+error_independent: the same with the per-angle errors independent (summed in quadrature): a
+    lower bound;
+angles: the number of angles in S; theta_lo, theta_hi: the smallest and largest theta in S
+    (rad, in (-pi, pi])."""
+
+
+def wrap(theta):
+    """Angles in (-pi, pi]."""
+    t = np.angle(np.exp(1j * np.asarray(theta, float)))
+    return np.where(t <= -np.pi, np.pi, t)
+
+
+def slip_speed(theta, spin_ratio):
+    """Nominal slip speed of the intruder's surface against the grains, over V (ccw positive).
+
+    The surface moves at omega R along t = z x n; grains arriving at -V (the intruder frame's
+    far field, not slowed, not spinning) move along t at V sin(theta). The slip is
+    omega R - V sin(theta), over V: Omega - sin(theta). It spans Omega -+ 1 (omega R -+ V); a
+    Coulomb wall then carries sigma_t = -mu_w sigma_n sign(slip)."""
+    return spin_ratio - np.sin(np.asarray(theta, float))
+
+
+def loaded(sigma_n, threshold=THRESHOLD):
+    """The mask of the angles whose sigma_n is at least threshold times its largest value."""
+    sn = np.asarray(sigma_n, float)
+    return sn >= threshold * np.max(sn)
+
+
+def wall_friction(theta, sigma_n, sigma_t, sigma_n_err=None, sigma_t_err=None,
+                  threshold=THRESHOLD):
+    """The effective wall friction mu_w = sum_S |sigma_t| / sum_S sigma_n (WallFriction).
+
+    @param theta angles (rad); @param sigma_n, sigma_t the surface stresses there (Pa);
+    @param sigma_n_err, sigma_t_err their per-angle standard errors (Pa), or None;
+    @param threshold the fraction of the largest sigma_n an angle must carry to count.
+    Weighting by sigma_n gives each angle its share of the normal load, which is what a
+    Coulomb wall's friction multiplies: mu_w is the friction a wall needs to carry the same
+    tangential load on the loaded part of the surface."""
+    th = wrap(theta)
+    sn = np.asarray(sigma_n, float)
+    st = np.asarray(sigma_t, float)
+    s = loaded(sn, threshold)
+    num, den = float(np.sum(np.abs(st[s]))), float(np.sum(sn[s]))
+    mu = num / den
+    err = err_ind = float("nan")
+    if sigma_n_err is not None and sigma_t_err is not None:
+        en = np.asarray(sigma_n_err, float)[s]
+        et = np.asarray(sigma_t_err, float)[s]
+        rel = np.hypot(np.sum(et) / num, np.sum(en) / den)
+        rel_ind = np.hypot(np.sqrt(np.sum(et ** 2)) / num, np.sqrt(np.sum(en ** 2)) / den)
+        err, err_ind = mu * float(rel), mu * float(rel_ind)
+    return WallFriction(mu, err, err_ind, int(np.sum(s)), float(np.min(th[s])),
+                        float(np.max(th[s])))
+
+
+def directed_friction(theta, sigma_n, sigma_t, spin_ratio, threshold=THRESHOLD):
+    """-sum_S sign(slip) sigma_t / sum_S sigma_n: mu_w counted with the sign a Coulomb wall
+    gives sigma_t (against the nominal slip, slip_speed). Equal to wall_friction's mu where
+    the tangential stress opposes the nominal slip at every loaded angle, smaller where it
+    does not (grains carried with the surface, or rolling on it)."""
+    sn = np.asarray(sigma_n, float)
+    st = np.asarray(sigma_t, float)
+    s = loaded(sn, threshold)
+    sign = np.sign(slip_speed(theta, spin_ratio))[s]
+    return float(-np.sum(sign * st[s]) / np.sum(sn[s]))
+
+
+def peak_ratio(sigma_n, sigma_t):
+    """max |sigma_t| / max sigma_n: the tangential stress's peak in units of the normal
+    stress's peak (docs/crosscheck.md's "peaks at 0.22 sigma_n")."""
+    return float(np.max(np.abs(sigma_t)) / np.max(sigma_n))
+
+
+def saturating_fit(x, y, err):
+    """Weighted least squares of y = a + (b - a) x / (x + c) (a mu(I)-like saturation in a slip
+    speed x >= 0) over c on a grid (0.05 to 20, logarithmic), a and b linear.
+
+    Returns (a, b, c, a_err, b_err, chi2 per degree of freedom); a_err, b_err from the
+    covariance of the linear part at the best c, scaled by sqrt(chi2/dof) when above 1."""
+    x, y, w = (np.asarray(v, float) for v in (x, y, err))
+    best = None
+    for c in np.geomspace(0.05, 20, 400):
+        f = x / (x + c)
+        a_mat = np.column_stack([1 - f, f]) / w[:, None]
+        coef, *_ = np.linalg.lstsq(a_mat, y / w, rcond=None)
+        chi2 = float(np.sum((a_mat @ coef - y / w) ** 2))
+        if best is None or chi2 < best[0]:
+            best = (chi2, coef, c, a_mat)
+    chi2, coef, c, a_mat = best
+    dof = max(1, len(x) - 3)
+    cov = np.linalg.inv(a_mat.T @ a_mat) * max(1.0, chi2 / dof)
+    return (float(coef[0]), float(coef[1]), float(c), float(np.sqrt(cov[0, 0])),
+            float(np.sqrt(cov[1, 1])), chi2 / dof)
