@@ -1,5 +1,5 @@
 // The fluidity equation of the nonlocal granular fluidity model (Kamrin & Koval, PRL 108,
-// 178301, 2012), -div(xi^2 grad g) + g = g_loc, solved alone (the building block of
+// 178301, 2012), g - xi^2 Laplacian(g) = g_loc, solved alone (the building block of
 // continuum.model = "nonlocal_fluidity"): its exact boundary layer in planar shear, the
 // uniform state under zero flux, a manufactured solution with variable xi, and the capped
 // cooperativity length xi_of_mu.

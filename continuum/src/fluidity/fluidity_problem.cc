@@ -84,16 +84,17 @@ void FluidityProblem::assemble_system() {
     cell_rhs = 0;
     setup_.coefficients(CellIterator(cell), fe_values.get_quadrature_points(), coef);
     for (unsigned int q = 0; q < n_q; ++q) {
-      // Kamrin & Koval 2012: g - xi^2 Laplacian(g) = g_loc, here with xi^2 inside the
-      // divergence (the weak form is symmetric; equal to theirs where xi is uniform)
-      const double k = coef.xi[q] * coef.xi[q], jxw = fe_values.JxW(q);
+      // Kamrin & Koval 2012: g - xi^2 Laplacian(g) = g_loc, divided by xi^2 (> 0) so that
+      // the weak form is symmetric: (grad g, grad v) + (g / xi^2, v) = (g_loc / xi^2, v);
+      // zero flux is its natural condition
+      const double inv_k = 1.0 / (coef.xi[q] * coef.xi[q]), jxw = fe_values.JxW(q);
       for (unsigned int i = 0; i < n_dofs; ++i) {
         const double vi = fe_values.shape_value(i, q);
         const Tensor<1, dim> grad_vi = fe_values.shape_grad(i, q);
         for (unsigned int j = 0; j < n_dofs; ++j)
-          cell_matrix(i, j) += (k * grad_vi * fe_values.shape_grad(j, q) +
-                                vi * fe_values.shape_value(j, q)) * jxw;
-        cell_rhs(i) += coef.g_loc[q] * vi * jxw;
+          cell_matrix(i, j) += (grad_vi * fe_values.shape_grad(j, q) +
+                                inv_k * vi * fe_values.shape_value(j, q)) * jxw;
+        cell_rhs(i) += inv_k * coef.g_loc[q] * vi * jxw;
       }
     }
     cell->get_dof_indices(dof_indices);

@@ -1,6 +1,6 @@
 // FluidityProblem: the scalar equation of the nonlocal granular fluidity model,
 //
-//     -div(xi^2 grad g) + g = g_loc      (Kamrin & Koval, PRL 108, 178301, 2012)
+//     g - xi^2 Laplacian(g) = g_loc      (Kamrin & Koval, PRL 108, 178301, 2012)
 //
 // on a given 2D triangulation, with xi and g_loc supplied per quadrature point (so that the
 // coupling with the flow can evaluate mu and p there), Q1 or Q2 elements, g imposed on some

@@ -1,4 +1,4 @@
-// Verification drivers of the fluidity equation -div(xi^2 grad g) + g = g_loc (the building
+// Verification drivers of the fluidity equation g - xi^2 Laplacian(g) = g_loc (the building
 // block of the nonlocal granular fluidity model): problems with known solutions run through
 // the same finite-element solver (continuum/src/fluidity/). deal.II-free; used by
 // tests/continuum/test_fluidity.cc and to re-measure the rates in docs/continuum-model.md.
@@ -38,7 +38,7 @@ FluidityErrors planar_shear_fluidity(const PlanarShear& p, int refinement, int d
 FluidityErrors uniform_zero_flux_fluidity(int refinement, int degree);
 
 /// @brief Manufactured solution on [0, 1]^2: g = 2 + sin(pi x / 2) cos(pi y) (1/s),
-/// xi = 0.2 (1 + 0.5 x y) (m), g_loc = g - div(xi^2 grad g); g imposed on x = 0 and y = 0,
+/// xi = 0.2 (1 + 0.5 x y) (m), g_loc = g - xi^2 Laplacian(g); g imposed on x = 0 and y = 0,
 /// zero flux on x = 1 and y = 1 (where dg/dn = 0 exactly). 2^@p refinement cells per side,
 /// Q@p degree.
 FluidityErrors manufactured_fluidity(int refinement, int degree);
