@@ -179,7 +179,14 @@ void CylinderProblem::sample_fields() {
 }
 
 void CylinderProblem::output_results() const {
-  if (!config_.vtu_directory.empty()) post().output_results(config_.vtu_directory, "continuum");
+  if (config_.vtu_directory.empty()) return;
+  // the VTU is a picture of the result, not the result: a VTU that cannot be written (a full
+  // disk) is a warning, and the run goes on to write its result file
+  try {
+    post().output_results(config_.vtu_directory, "continuum");
+  } catch (const std::exception& e) {
+    say(std::string("warning: the VTU file was not written, the run goes on: ") + e.what());
+  }
 }
 
 }  // namespace grainlift::continuum::internal

@@ -258,8 +258,17 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
       RunCheckpoint tagged = ck;
       tagged.case_tag = c.source.hash;
       const std::vector<unsigned char> bytes = encode_checkpoint(tagged);
-      make_directories(opt->out_dir);
-      write_text_atomically(checkpoint_path(*opt), std::string(bytes.begin(), bytes.end()));
+      // A checkpoint that cannot be written (a full disk) costs only the time since the last
+      // good one: the run goes on, warns, keeps that one and tries again at the next.
+      try {
+        make_directories(opt->out_dir);
+        write_bytes_atomically(checkpoint_path(*opt), bytes.data(), bytes.size());
+      } catch (const std::exception& e) {
+        const std::string warning =
+            fmt::format("warning: checkpoint not written, the run goes on: {}", e.what());
+        if (progress) progress->message(warning);
+        else fmt::print(stderr, "{}\n", warning);
+      }
     };
   }
   DemOutput out;

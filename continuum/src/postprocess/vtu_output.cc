@@ -7,9 +7,15 @@
 
 #include <mpi.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
+#include <stdexcept>
 
 #include "flow_problem.h"
 #include "quadrature_rheology.h"
@@ -17,6 +23,25 @@
 namespace grainlift::continuum::internal {
 
 using namespace dealii;
+
+namespace {
+/// @p text to @p file through a temporary file renamed into place; std::runtime_error naming
+/// the file and the cause (strerror) when it cannot be written, the temporary file removed.
+void write_file_atomically(const std::string& file, const std::string& text) {
+  const std::string tmp = file + ".tmp." + std::to_string(::getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  int err = f ? 0 : errno;
+  if (f) {
+    if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) err = errno;
+    if (std::fclose(f) != 0 && err == 0) err = errno;
+  }
+  if (err == 0 && std::rename(tmp.c_str(), file.c_str()) != 0) err = errno;
+  if (err != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(file + ": cannot write the file: " + std::strerror(err));
+  }
+}
+}  // namespace
 
 void FlowProblem::output_results(const std::string& directory, const std::string& basename) const {
   if (Utilities::MPI::this_mpi_process(comm_) == 0) std::filesystem::create_directories(directory);
@@ -54,8 +79,10 @@ void FlowProblem::output_results(const std::string& directory, const std::string
   data_out.build_patches(mapping_, 2, DataOut<dim>::curved_inner_cells);
   const std::string file = (std::filesystem::path(directory) / (basename + ".vtu")).string();
   if (n_ranks() == 1) {
-    std::ofstream f(file);
-    data_out.write_vtu(f);
+    // written whole to a temporary name and renamed: the previous file stays on a failure
+    std::ostringstream text;
+    data_out.write_vtu(text);
+    write_file_atomically(file, text.str());
   } else {
     // one .vtu, each rank writing its cells' patches (MPI I/O)
     data_out.write_vtu_in_parallel(file, comm_);

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <map>
+#include <vector>
 #include <stdexcept>
 
 #include "grainlift/shared/results/atomic_file.h"
@@ -90,22 +91,25 @@ const SchemaEntry& coordinate_entry(const std::string& symbol) {
 
 void write_result(const std::string& path, const RunResult& result) {
   silence_hdf5();
-  const std::string tmp = temporary_path_for(path);
+  // The file is built in memory (HDF5's core driver, no backing store) and its image written
+  // by write_bytes_atomically: HDF5 itself never writes to the disk, so a full disk or a
+  // read-only folder is one clear error there, and no HDF5 file is left open with unwritten
+  // data for the library's exit handler to flush (which crashed on a full disk).
+  std::vector<unsigned char> image;
   {
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (!file.valid()) throw InputError(fmt::format("{}: cannot create the file", path));
-    try {
-      write_body(file, result);
-    } catch (...) {
-      std::remove(tmp.c_str());
-      throw;
-    }
-    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) {
-      std::remove(tmp.c_str());
-      throw RunError(fmt::format("{}: flushing the file failed", path));
-    }
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    check(H5Pset_fapl_core(fapl, 1 << 20, false), "H5Pset_fapl_core");
+    Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose);
+    if (!file.valid()) throw RunError(fmt::format("{}: HDF5 cannot create the file", path));
+    write_body(file, result);
+    check(H5Fflush(file, H5F_SCOPE_GLOBAL), "H5Fflush");
+    const ssize_t size = H5Fget_file_image(file, nullptr, 0);
+    if (size <= 0) throw RunError(fmt::format("{}: HDF5 gave no file image", path));
+    image.resize(static_cast<std::size_t>(size));
+    if (H5Fget_file_image(file, image.data(), image.size()) != size)
+      throw RunError(fmt::format("{}: HDF5 gave a short file image", path));
   }
-  commit_file(tmp, path);
+  write_bytes_atomically(path, image.data(), image.size());
 }
 
 void write_fields_xdmf(const std::string& xmf_path, const std::string& h5_name,

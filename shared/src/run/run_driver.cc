@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -133,6 +135,29 @@ void write_solver_files(const std::string& out_dir, const std::string& solver, c
   write_result(out_dir + "/" + solver + ".h5", r);
   write_fields_xdmf(out_dir + "/" + solver + "_fields.xmf", solver + ".h5", r);
 }
+
+/// The solver's files in @p out_dir; when they cannot be written there (a full disk, a
+/// read-only folder), in a folder of the system's temporary directory instead, and the
+/// RunError (exit 1) says where they are. The result of a long run is never lost to a write.
+void write_solver_files_or_rescue(const std::string& out_dir, const std::string& solver,
+                                  const RunResult& r, const std::string& case_hash) {
+  try {
+    write_solver_files(out_dir, solver, r);
+  } catch (const RunError& e) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path rescue = fs::temp_directory_path(ec) /
+                            fmt::format("grainlift-{}-{}", case_hash.substr(0, 12), ::getpid());
+    try {
+      make_directories(rescue.string());
+      write_solver_files(rescue.string(), solver, r);
+    } catch (const std::exception&) {
+      throw e;  // nowhere to write: the first cause
+    }
+    throw RunError(fmt::format("{}\nThe result was written instead to {}/{}.h5: copy it to where "
+                               "you want it.", e.what(), rescue.string(), solver));
+  }
+}
 }  // namespace
 
 std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
@@ -147,8 +172,14 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
       solver_options.save_partial = [&](RunResult partial) {
         stamp(partial, c, solver.name, options, t0);
         partial.meta.partial = true;
-        write_solver_files(options.out_dir, solver.name, partial);
-        write_summary(options.out_dir, c.source.hash);
+        // an intermediate result that cannot be written is a warning: the solve goes on
+        try {
+          write_solver_files(options.out_dir, solver.name, partial);
+          write_summary(options.out_dir, c.source.hash);
+        } catch (const RunError& e) {
+          progress.message(fmt::format("warning: intermediate result not written, the run "
+                                       "goes on: {}", e.what()));
+        }
       };
     }
     RunResult r;
@@ -161,7 +192,9 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
       throw;
     }
     stamp(r, c, solver.name, options, t0);
-    if (options.writer) write_solver_files(options.out_dir, solver.name, r);
+    if (options.writer) {
+      write_solver_files_or_rescue(options.out_dir, solver.name, r, c.source.hash);
+    }
     progress.finish();
     results.push_back(std::move(r));
     if (interrupt_signal()) break;  // the next solvers do not start
