@@ -179,6 +179,10 @@ void add_run_notes(const Case& c, const DemConfig& cfg, const DemOutput& out, do
                    ProgressReporter* progress, const std::string& tag, bool checkpoints,
                    RunResult& r) {
   r.diagnostics.counts["frictionless_path"] = out.frictionless_path ? 1 : 0;
+  if (!out.packing_cache_note.empty()) {
+    if (progress) progress->message("warning: " + out.packing_cache_note);
+    r.meta.notes += "; " + out.packing_cache_note;
+  }
   r.diagnostics.values["bed_max_overlap"] = out.bed_max_overlap;
   if (out.resumed_from_step >= 0) {
     r.diagnostics.counts["resumed_from_step"] = out.resumed_from_step;

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -457,6 +460,42 @@ TEST(Simulation, PackingCacheIsReusedWithIdenticalForces) {
   const auto second = gd::run_simulation(c);
   EXPECT_TRUE(second.packing_from_cache);
   expect_same_samples(first, second);
+  std::filesystem::remove_all(c.packing_cache_dir);
+}
+
+// A damaged cache entry (one byte flipped in its positions), a truncated one and one of the
+// older format without a checksum (issue 37) are each reported as a cache problem naming the
+// file, removed and rebuilt; the run's forces equal those of a clean cache bit for bit, and the
+// rebuilt entry is used again by the next run.
+TEST(Simulation, DamagedPackingCacheIsReportedRemovedAndRebuilt) {
+  auto c = small_case(30, 20, 0.6);
+  c.packing_cache_dir = temp_cache_dir("damaged_cache");
+  std::filesystem::remove_all(c.packing_cache_dir);
+  const auto clean = gd::run_simulation(c);
+  const std::string path = gd::packing_cache_path(c);
+  const auto rewrite = [&](const std::function<void(std::string&)>& damage) {
+    std::ifstream in(path, std::ios::binary);
+    std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    damage(b);
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << b;
+  };
+  const std::vector<std::pair<std::string, std::function<void(std::string&)>>> damages{
+      {"damaged (checksum mismatch)", [](std::string& b) { b[b.size() / 2] ^= 0x5a; }},
+      {"damaged (its length", [](std::string& b) { b.resize(b.size() - 100); }},
+      {"of an older format", [](std::string& b) { b[7] = '1'; }}};
+  for (const auto& [why, damage] : damages) {
+    SCOPED_TRACE(why);
+    rewrite(damage);
+    const auto again = gd::run_simulation(c);
+    EXPECT_FALSE(again.packing_from_cache);
+    EXPECT_NE(again.packing_cache_note.find(path), std::string::npos) << again.packing_cache_note;
+    EXPECT_NE(again.packing_cache_note.find(why), std::string::npos) << again.packing_cache_note;
+    expect_same_samples(clean, again);
+    const auto reused = gd::run_simulation(c);
+    EXPECT_TRUE(reused.packing_from_cache);
+    EXPECT_TRUE(reused.packing_cache_note.empty());
+  }
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 

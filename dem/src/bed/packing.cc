@@ -386,7 +386,11 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   const std::string cache = packing_cache_path(c);
   const std::uint64_t hash = packing_hash(c);
   PackedBed bed;
-  if (!cache.empty() && detail::load_packing(cache, hash, bed)) return bed;
+  if (!cache.empty()) {
+    const detail::CacheRead read = detail::load_packing(cache, hash, bed);
+    if (read.found) return bed;
+    bed.cache_note = read.note;
+  }
 
   const double phi = c.area_fraction;
   if (!(phi > 0 && phi <= 0.9)) {

@@ -1,62 +1,102 @@
 // The packing cache's files (packing_cache.h): a prepared bed written whole to a temporary
-// file and renamed into place, read back only when its magic and key match.
+// file and renamed into place, with its format, its key and a checksum; read back only when
+// all three hold. A damaged or foreign entry is removed (and the bed rebuilt by the caller).
 #include "bed/packing_cache.h"
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 namespace grainlift::dem::detail {
 
 namespace {
-constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '1'};
+/// Format 2: magic, key, grain count, area fraction, x, y, r, FNV-1a 64 of all before it.
+constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '2'};
+constexpr char kOldMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '1'};
+constexpr std::size_t kHeader = 32;
+
+std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t k = 0; k < n; ++k) {
+    h ^= p[k];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+template <class T>
+T at(const std::vector<unsigned char>& b, std::size_t offset) {
+  T v;
+  std::memcpy(&v, b.data() + offset, sizeof v);
+  return v;
+}
+
+/// Why the bytes @p b of an entry stored under key @p hash cannot be used ("" when they can).
+std::string problem_of(const std::vector<unsigned char>& b, std::uint64_t hash) {
+  if (b.size() >= 8 && std::memcmp(b.data(), kOldMagic, 8) == 0)
+    return "of an older format (no checksum)";
+  if (b.size() < kHeader + 8 || std::memcmp(b.data(), kMagic, 8) != 0)
+    return "not a packing of this grainlift (foreign or truncated)";
+  const auto n = at<std::int64_t>(b, 16);
+  if (n < 0 || n > (1ll << 32) ||
+      b.size() != kHeader + 3 * static_cast<std::size_t>(n) * sizeof(double) + 8)
+    return "damaged (its length does not match its grain count)";
+  if (fnv1a(b.data(), b.size() - 8) != at<std::uint64_t>(b, b.size() - 8))
+    return "damaged (checksum mismatch)";
+  if (at<std::uint64_t>(b, 8) != hash) return "of another bed (its key differs)";
+  return "";
+}
 }  // namespace
 
-bool load_packing(const std::string& path, std::uint64_t hash, PackedBed& bed) {
+CacheRead load_packing(const std::string& path, std::uint64_t hash, PackedBed& bed) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  char magic[8];
-  std::uint64_t h = 0;
-  std::int64_t n = 0;
-  double phi = 0;
-  in.read(magic, 8);
-  in.read(reinterpret_cast<char*>(&h), sizeof h);
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  in.read(reinterpret_cast<char*>(&phi), sizeof phi);
-  if (!in || std::memcmp(magic, kMagic, 8) != 0 || h != hash || n < 0 || n > (1ll << 32)) {
-    return false;
+  if (!in) return {};
+  const std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+  in.close();
+  const std::string problem = problem_of(b, hash);
+  if (!problem.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    return {false, "packing cache: " + path + " is " + problem + ": removed, the bed rebuilt"};
   }
-  bed.x.resize(n);
-  bed.y.resize(n);
-  bed.r.resize(n);
+  const auto n = static_cast<std::size_t>(at<std::int64_t>(b, 16));
+  bed.area_fraction = at<double>(b, 24);
+  std::size_t offset = kHeader;
   for (auto* v : {&bed.x, &bed.y, &bed.r}) {
-    in.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * sizeof(double)));
+    v->resize(n);
+    std::memcpy(v->data(), b.data() + offset, n * sizeof(double));
+    offset += n * sizeof(double);
   }
-  if (!in) return false;
-  bed.area_fraction = phi;
   bed.from_cache = true;
-  return true;
+  return {true, ""};
 }
 
 void save_packing(const std::string& path, std::uint64_t hash, const PackedBed& bed) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(fs::path(path).parent_path(), ec);
+  const std::int64_t n = static_cast<std::int64_t>(bed.r.size());
+  std::vector<unsigned char> b(kHeader);
+  std::memcpy(b.data(), kMagic, 8);
+  std::memcpy(b.data() + 8, &hash, 8);
+  std::memcpy(b.data() + 16, &n, 8);
+  std::memcpy(b.data() + 24, &bed.area_fraction, 8);
+  for (const auto* v : {&bed.x, &bed.y, &bed.r}) {
+    const auto* p = reinterpret_cast<const unsigned char*>(v->data());
+    b.insert(b.end(), p, p + v->size() * sizeof(double));
+  }
+  const std::uint64_t sum = fnv1a(b.data(), b.size());
+  const auto* s = reinterpret_cast<const unsigned char*>(&sum);
+  b.insert(b.end(), s, s + 8);
   std::random_device rd;
   const std::string tmp = path + ".tmp." + std::to_string(rd());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return;  // the cache is an optimisation: a read-only directory is not an error
-    const std::int64_t n = static_cast<std::int64_t>(bed.r.size());
-    out.write(kMagic, 8);
-    out.write(reinterpret_cast<const char*>(&hash), sizeof hash);
-    out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    out.write(reinterpret_cast<const char*>(&bed.area_fraction), sizeof bed.area_fraction);
-    for (const auto* v : {&bed.x, &bed.y, &bed.r}) {
-      out.write(reinterpret_cast<const char*>(v->data()),
-                static_cast<std::streamsize>(n * sizeof(double)));
-    }
+    out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
     if (!out) {
       out.close();
       fs::remove(tmp, ec);

@@ -9,9 +9,15 @@
 
 namespace grainlift::dem::detail {
 
-/// The bed stored at @p path under key @p hash into @p bed (from_cache set); false when there
-/// is none, or it is another bed's or unreadable.
-bool load_packing(const std::string& path, std::uint64_t hash, PackedBed& bed);
+/// What reading a cache entry gave: the bed, or none; and why an entry there was not used.
+struct CacheRead {
+  bool found = false;
+  std::string note;  ///< "" or "packing cache: PATH is damaged (...): removed, the bed rebuilt"
+};
+/// The bed stored at @p path under key @p hash into @p bed (from_cache set). An entry of an
+/// older format, foreign, truncated, of another key or whose checksum fails is removed and
+/// reported in the note; no file: not found, no note.
+CacheRead load_packing(const std::string& path, std::uint64_t hash, PackedBed& bed);
 /// Stores @p bed at @p path under key @p hash (a temporary file renamed into place); a folder
 /// that cannot be written is not an error (the cache only saves time).
 void save_packing(const std::string& path, std::uint64_t hash, const PackedBed& bed);

@@ -184,6 +184,7 @@ std::unique_ptr<DemSystem> system_for_run(const DemConfig& c, const RunCheckpoin
     // entry, as before for every dt within the default limit
     const PackedBed bed = prepare_packing(packing_config(c), progress);
     out.packing_from_cache = bed.from_cache;
+    out.packing_cache_note = bed.cache_note;
     out.achieved_area_fraction = bed.area_fraction;
     out.bed = bed_fingerprint(c, bed, make_wall_disks(c));
     system = system_on_bed(c, bed);

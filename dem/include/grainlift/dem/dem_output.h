@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "grainlift/dem/bed/bed_fingerprint.h"
@@ -61,6 +62,8 @@ struct DemOutput {
   double achieved_area_fraction = 0;
   double collision_time = 0;              ///< s, binary collision time used for the dt check
   bool packing_from_cache = false;
+  /// Why the packing cache's entry was not used (damaged, foreign: removed, the bed rebuilt)
+  std::string packing_cache_note;
   long long steps = 0;                    ///< steps run
   long long planned_steps = 0;            ///< steps of the whole travel
   bool frictionless_path =

@@ -17,6 +17,9 @@ struct PackedBed {
   std::vector<double> x, y, r;
   double area_fraction = 0;  ///< sum of grain areas / accessible area
   bool from_cache = false;
+  /// Why a cache entry for this bed was not used (damaged, foreign, older format: removed and
+  /// rebuilt), or "".
+  std::string cache_note;
 };
 
 /// @brief Area (m^2) open to grains: the box minus the wall strips (one mean diameter per
