@@ -6,8 +6,9 @@ real ENOSPC takes), so that the system's temporary folder still works.
 Expected behaviour, each checked:
 - the continuum (refinement 1): its intermediate result is a warning and the solve goes on
   (the VTU, written by the engine, does not see the hook; on a real full disk it is a warning
-  too: docs/reliability.md); the result that cannot be written in --out ends the run with exit 1 (never a
-  signal: the former crash in HDF5's exit handler was exit 139) and one message naming
+  too: docs/reliability.md); the result that cannot be written in --out ends the run with
+  exit 1 (never a signal: the former crash in HDF5's exit handler was exit 139) and one message
+  naming
   OUT/fem.h5, "No space left on device" and where the result was written instead; that file
   opens with h5py through grainlift.io and holds the forces; the fem.h5 already in --out is
   byte for byte as it was;
