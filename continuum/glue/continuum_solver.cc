@@ -342,6 +342,9 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
              {"pressure_source", pressure_source(c)},
              {"rheology_source", c.continuum.law_source}};
   if (!c.continuum.rheology_file.empty()) d.texts["rheology_file"] = c.continuum.rheology_file;
+  if (c.continuum.wall_law == "measured")  // absent otherwise: today's files unchanged
+    d.texts["wall_law"] = fmt::format("measured: friction {} of the [wall] table of {}",
+                                      c.continuum.wall_friction, c.continuum.rheology_file);
   if (coarser) add_mesh_error(m, *coarser, d);
   if (!out.levels.empty()) add_level_series(c, out, d);
   d.series["residual_history"] = out.residual_history;
