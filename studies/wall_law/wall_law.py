@@ -134,6 +134,8 @@ def local_points(rows, prefix, threshold):
         xs.append(np.abs(wall.slip_speed(th[s], x["omega"])))
         ys.append(np.abs(st[s]) / sn[s])
         es.append(np.hypot(et[s], ys[-1] * en[s]) / sn[s])
+    if not xs:
+        return np.array([]), np.array([]), np.array([])
     return np.concatenate(xs), np.concatenate(ys), np.concatenate(es)
 
 
