@@ -317,7 +317,8 @@ TEST(CaseLoader, RheologyFileReplacesTheContinuumLaw) {
 
 // continuum.wall_law: "coulomb" by default (the wall's friction is continuum.wall_friction,
 // default intruder.friction = grains.friction 0.5: today's results); "measured" takes the
-// friction of the rheology file's [wall] table exactly, and is refused with a line that says
+// friction of the rheology file's [wall] table exactly, "measured_slip" its slip law (mu_a,
+// mu_b, v0 exactly; v0 = 0, no law, otherwise); both are refused with a line that says
 // why without a rheology file, with a file that has no [wall], beside continuum.wall_friction,
 // or on a no-slip wall.
 TEST(CaseLoader, MeasuredWallLawTakesTheRheologyFilesWallFriction) {
@@ -356,6 +357,13 @@ TEST(CaseLoader, MeasuredWallLawTakesTheRheologyFilesWallFriction) {
   EXPECT_EQ(m.continuum.wall_law, "measured");
   EXPECT_EQ(m.continuum.wall_friction, 0.205);
   EXPECT_EQ(m.continuum.mu_s, law.mu_i.mu_s);
+  EXPECT_EQ(m.continuum.wall_v0, 0.0);  // constant: no slip law
+  const grainlift::Case ms = grainlift::parse_case(
+      coulomb + "rheology_file = \"wall.toml\"\nwall_law = \"measured_slip\"\n", case_path);
+  EXPECT_EQ(ms.continuum.wall_mu_a, 0.03);
+  EXPECT_EQ(ms.continuum.wall_mu_b, 0.33);
+  EXPECT_EQ(ms.continuum.wall_v0, 0.079);
+  EXPECT_EQ(d.continuum.wall_v0, 0.0);
   // the same through --set
   const grainlift::Case s = grainlift::parse_case(
       coulomb + "rheology_file = \"wall.toml\"\n", case_path,

@@ -152,19 +152,19 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
                "intruder.velocity must not be zero (drag and lift are defined along V)");
   // the continuum's box (solver_box, docs/continuum-model.md "The box")
   const auto& cn = c.continuum;
-  if (cn.wall_law == "measured") {
+  if (cn.wall_law != "coulomb") {
+    const std::string law = fmt::format("continuum.wall_law = \"{}\"", cn.wall_law);
     if (cn.wall != "coulomb")
       diag.error(where("continuum.wall_law"),
-                 "continuum.wall_law = \"measured\" is a Coulomb wall's friction: it needs "
-                 "continuum.wall = \"coulomb\"");
+                 law + " is a Coulomb wall's friction: it needs continuum.wall = \"coulomb\"");
     if (cn.rheology_file.empty())
       diag.error(where("continuum.wall_law"),
-                 "continuum.wall_law = \"measured\" reads the [wall] table of "
-                 "continuum.rheology_file: name the file (studies/wall_law/ writes the table)");
+                 law + " reads the [wall] table of continuum.rheology_file: name the file "
+                       "(studies/wall_law/ writes the table)");
     if (r.at_path("continuum.wall_friction"))
       diag.error(where("continuum.wall_friction"),
-                 "continuum.wall_friction and continuum.wall_law = \"measured\" both give the "
-                 "wall's friction: remove continuum.wall_friction");
+                 "continuum.wall_friction and " + law +
+                     " both give the wall's friction: remove continuum.wall_friction");
   }
   if (cn.far_field == "periodic" && (!d.periodic[0] || d.wall_left || d.wall_right))
     diag.error(where("continuum.far_field"),
@@ -224,14 +224,19 @@ void apply_rheology_file(const toml::table& root, const std::string& name, Case&
     c.continuum.mu_s = law.mu_i.mu_s;
     c.continuum.mu_2 = law.mu_i.mu_2;
     c.continuum.I0 = law.mu_i.I0;
-    if (c.continuum.wall_law == "measured") {
+    if (c.continuum.wall_law != "coulomb") {
       if (!law.wall)
         diag.error(diag.where("continuum.wall_law", root.at_path("continuum.wall_law").node()),
-                   fmt::format("continuum.wall_law = \"measured\": {} has no [wall] table "
+                   fmt::format("continuum.wall_law = \"{}\": {} has no [wall] table "
                                "(studies/wall_law/wall_law.py --write-wall writes one)",
-                               file.string()));
+                               c.continuum.wall_law, file.string()));
       else
         c.continuum.wall_friction = law.wall->friction;
+      if (law.wall && c.continuum.wall_law == "measured_slip") {
+        c.continuum.wall_mu_a = law.wall->mu_a;
+        c.continuum.wall_mu_b = law.wall->mu_b;
+        c.continuum.wall_v0 = law.wall->v0;
+      }
     }
   } catch (const InputError& e) {
     diag.error(diag.where(key, root.at_path(key).node()), e.what());
