@@ -190,6 +190,9 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   f.wall = choice<WallCondition>(
       c.continuum.wall, {{"no_slip", WallCondition::no_slip}, {"coulomb", WallCondition::coulomb}});
   f.wall_friction = c.continuum.wall_friction;
+  f.wall_mu_a = c.continuum.wall_mu_a;
+  f.wall_mu_b = c.continuum.wall_mu_b;
+  f.wall_v0 = c.continuum.wall_v0;
   f.inertia = choice<InertiaMode>(c.continuum.inertia, {{"on", InertiaMode::on},
                                                         {"off", InertiaMode::off},
                                                         {"auto", InertiaMode::automatic}});
@@ -342,6 +345,14 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
              {"pressure_source", pressure_source(c)},
              {"rheology_source", c.continuum.law_source}};
   if (!c.continuum.rheology_file.empty()) d.texts["rheology_file"] = c.continuum.rheology_file;
+  if (c.continuum.wall_law == "measured")  // absent otherwise: today's files unchanged
+    d.texts["wall_law"] = fmt::format("measured: friction {} of the [wall] table of {}",
+                                      c.continuum.wall_friction, c.continuum.rheology_file);
+  if (c.continuum.wall_law == "measured_slip")
+    d.texts["wall_law"] = fmt::format(
+        "measured_slip: mu_w(s) = {} + ({} - {}) |s| / (|s| + {} m/s), [wall] of {}",
+        c.continuum.wall_mu_a, c.continuum.wall_mu_b, c.continuum.wall_mu_a,
+        c.continuum.wall_v0, c.continuum.rheology_file);
   if (coarser) add_mesh_error(m, *coarser, d);
   if (!out.levels.empty()) add_level_series(c, out, d);
   d.series["residual_history"] = out.residual_history;

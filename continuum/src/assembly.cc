@@ -3,6 +3,7 @@
 // (MappingQ2) mesh. The weak form, with n the outward normal of the medium:
 //   R_v = int 2 eta D(u):D(v) - p div v + rho ((grad u) u).v - f.v  - int_{Gamma_N} t.v
 //         + int_{Gamma_wall} mu_w p+ g(s) (t_w.v),        g(s) = s / sqrt(s^2 + eps^2)
+//   with mu_w constant or the grains' slip law mu_a + (mu_b - mu_a) |s| / (|s| + v0)
 //   R_q = - int q div u
 // Newton's Jacobian differentiates eta(|D|^2, p) in both arguments (see assemble_cell_volume).
 #include <deal.II/base/quadrature_lib.h>
@@ -183,6 +184,7 @@ void FlowProblem::add_friction_terms(AssemblyScratch& sc, const VectorType& stat
   ffv[kVelocity].get_function_values(state, sc.fu);
   ffv[kPressure].get_function_values(state, sc.fp);
   const double eps = w.slip_scale;
+  const bool law = w.v0 > 0;  // the slip law; otherwise the constant mu_w (unchanged arithmetic)
   for (unsigned int q = 0; q < sc.nfq; ++q) {
     const Vec2 n = ffv.normal_vector(q);
     const Vec2 tw({-n[1], n[0]});
@@ -191,18 +193,26 @@ void FlowProblem::add_friction_terms(AssemblyScratch& sc, const VectorType& stat
     const double pp = std::max(fp[q], 0.0);
     const double r = std::sqrt(s * s + eps * eps);
     const double g = s / r, dg = eps * eps / (r * r * r);
+    // mu(s) = mu_a + (mu_b - mu_a) |s| / (|s| + v0); d(mu g)/ds = mu dg + mu' g (the law)
+    const double as = std::fabs(s);
+    const double mu = law ? w.mu_a + (w.mu_b - w.mu_a) * as / (as + w.v0) : w.mu_w;
+    const double dmu =
+        law ? (w.mu_b - w.mu_a) * w.v0 / ((as + w.v0) * (as + w.v0)) * (s < 0 ? -1.0 : 1.0) : 0;
+    const double dmug = law ? mu * dg + dmu * g : dg;  // the law folds mu in; else x mu_w below
+    const double gp = law ? mu * g : g;
+    const double outer = law ? 1.0 : w.mu_w;
     for (unsigned int i = 0; i < dpc; ++i) {
       const double ti = tw * ffv[kVelocity].value(i, q);
-      sc.cr(i) += w.mu_w * pp * g * ti * ffv.JxW(q);
+      sc.cr(i) += mu * pp * g * ti * ffv.JxW(q);
       if (!matrix) continue;
       for (unsigned int j = 0; j < dpc; ++j) {
         const double tj = tw * ffv[kVelocity].value(j, q);
         double a;
         if (newton)
-          a = pp * dg * tj + (fp[q] > 0 ? g * ffv[kPressure].value(j, q) : 0.0);
+          a = pp * dmug * tj + (fp[q] > 0 ? gp * ffv[kPressure].value(j, q) : 0.0);
         else
-          a = pp / r * tj;  // Picard: secant slip coefficient
-        sc.cm(i, j) += w.mu_w * a * ti * ffv.JxW(q);
+          a = (law ? mu * pp : pp) / r * tj;  // Picard: secant slip coefficient
+        sc.cm(i, j) += outer * a * ti * ffv.JxW(q);
       }
     }
   }

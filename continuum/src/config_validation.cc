@@ -78,6 +78,8 @@ void validate_config(const ContinuumConfig& c) {
                 " of mu(I)");
   }
   require(c.wall_friction >= 0, "wall_friction must be >= 0");
+  require(c.wall_v0 >= 0 && c.wall_mu_a >= 0 && c.wall_mu_b >= 0,
+          "the wall's slip law needs wall_v0 >= 0 (0 = constant wall_friction), mu_a, mu_b >= 0");
   require(c.wall_slip_regularisation >= 0, "wall_slip_regularisation must be >= 0");
   require(c.inertia_threshold >= 0, "inertia_threshold must be >= 0");
   require(c.refinement >= 0 && c.refinement <= 7, "refinement must be in [0, 7]");

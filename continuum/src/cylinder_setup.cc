@@ -69,6 +69,9 @@ ProblemSetup CylinderProblem::make_setup(const Vec2& g_used) const {
     w.id = kHole;
     w.wall_velocity = wall_velocity;
     w.mu_w = c.wall_friction;
+    w.mu_a = c.wall_mu_a;
+    w.mu_b = c.wall_mu_b;
+    w.v0 = c.wall_v0;
     w.slip_scale = c.wall_slip_regularisation > 0 ? c.wall_slip_regularisation
                                                   : std::max(1e-3 * vref, 1e-12);
     setup.bc.friction = w;

@@ -56,6 +56,8 @@ struct FrictionWall {
   VectorField wall_velocity;  ///< m/s, tangential velocity of the wall
   double mu_w = 0.5;
   double slip_scale = 1e-3;   ///< m/s, eps
+  /// With v0 > 0, mu_w is the slip law mu_a + (mu_b - mu_a) |s| / (|s| + v0) (m/s) instead.
+  double mu_a = 0, mu_b = 0, v0 = 0;
 };
 
 /// The pressure level of a problem with no traction boundary: the mean pressure over the

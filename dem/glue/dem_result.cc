@@ -127,7 +127,7 @@ void add_forces_means_and_surface(const Case& c, const DemOutput& out, RunResult
         const auto& ct = out.contacts[k];
         const double theta = wrap_angle(ct.theta - heading);
         kernel.add(theta, ct.fn, ct.ft);
-        hist.add(theta, ct.fn, ct.ft, ct.slipping);
+        hist.add(theta, ct.fn, ct.ft, ct.slipping, ct.vt);
       }
       kernel.end_frame();
       hist.end_frame();

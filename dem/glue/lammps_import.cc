@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -143,6 +144,7 @@ std::map<long long, StepContacts> read_contacts(const std::string& path, long lo
         if (c.theta <= -kPi) c.theta = kPi;
         c.fn = -(Fx * nx + Fy * ny);
         c.ft = -Fx * ny + Fy * nx;
+        c.vt = std::numeric_limits<double>::quiet_NaN();  // no velocities in the dump
         c.slipping = mu > 0 && fshear >= mu * std::abs(fnormal) * (1 - 1e-9);
         cs.push_back(c);
       }

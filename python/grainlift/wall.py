@@ -118,3 +118,65 @@ def saturating_fit(x, y, err):
     cov = np.linalg.inv(a_mat.T @ a_mat) * max(1.0, chi2 / dof)
     return (float(coef[0]), float(coef[1]), float(c), float(np.sqrt(cov[0, 0])),
             float(np.sqrt(cov[1, 1])), chi2 / dof)
+
+
+SlipLaw = namedtuple("SlipLaw", "mu_a mu_b v0 mu_a_err mu_b_err v0_err chi2_per_dof points")
+SlipLaw.__doc__ = """The grains' friction at the surface against the slip speed v (m/s):
+
+    mu_w(v) = mu_a + (mu_b - mu_a) |v| / (|v| + v0)
+
+mu_a: the friction of a surface that does not slip (grains rolling on it or carried with it);
+mu_b: the friction of a fast slip; v0 (m/s): the slip speed of the half-way point; *_err:
+their standard errors (the three-parameter covariance at the optimum, scaled by sqrt(chi2/dof)
+when above 1); chi2_per_dof; points: how many (v, ratio) pairs were fitted."""
+
+
+def slip_law(v, ratio, err):
+    """Fit mu_w(v) = mu_a + (mu_b - mu_a) |v| / (|v| + v0) (SlipLaw) to the local friction
+    @p ratio = |sigma_t| / sigma_n (standard errors @p err) against the slip speed @p v (m/s).
+
+    v is scaled by its median |v| so that saturating_fit's grid of x0 (0.05 to 20) covers it;
+    v0 = x0 times that scale. The errors come from the full Jacobian [1 - f, f, d/dv0] at the
+    best fit (a, b and v0 together), not from the linear part alone."""
+    v, y, e = (np.abs(np.asarray(q, float)) for q in (v, ratio, err))
+    y = np.asarray(ratio, float)
+    moving = v[v > 0]
+    scale = float(np.median(moving)) if len(moving) else 1.0
+    x = v / scale
+    a, b, c, _, _, chi = saturating_fit(x, y, e)
+    f = x / (x + c)
+    jac = np.column_stack([1 - f, f, -(b - a) * x / (x + c) ** 2]) / e[:, None]
+    cov = np.linalg.inv(jac.T @ jac) * max(1.0, chi)
+    err3 = np.sqrt(np.diag(cov))
+    return SlipLaw(a, b, c * scale, float(err3[0]), float(err3[1]), float(err3[2] * scale),
+                   chi, len(x))
+
+
+def slip_law_value(law, v):
+    """mu_w at slip speed(s) @p v (m/s) of a SlipLaw."""
+    s = np.abs(np.asarray(v, float))
+    return law.mu_a + (law.mu_b - law.mu_a) * s / (s + law.v0)
+
+
+def wall_table(law, friction, friction_err, source=""):
+    """The `[wall]` table of a rheology file (docs/case-format.md, `continuum.wall_law =
+    "measured"`) for a SlipLaw and the effective constant friction (wall_friction's mu, or
+    several runs' stats.pooled_mean) with its error. @p source: a free comment line."""
+    lines = ["", "[wall]"]
+    if source:
+        lines.insert(1, f"# {source}")
+    for key, value in (("friction", friction), ("friction_err", friction_err),
+                       ("mu_a", law.mu_a), ("mu_a_err", law.mu_a_err), ("mu_b", law.mu_b),
+                       ("mu_b_err", law.mu_b_err), ("v0", law.v0), ("v0_err", law.v0_err),
+                       ("chi2_per_dof", law.chi2_per_dof)):
+        lines.append(f"{key} = {float(value):.17g}")
+    lines.append(f"points = {int(law.points)}")
+    return "\n".join(lines) + "\n"
+
+
+def slip_at(theta, theta_lo, theta_hi, slip_velocity):
+    """The measured slip velocity (m/s, /histogram/slip_velocity: the surface against the
+    grains' contact points, ccw positive) at angles @p theta (rad): the bins' means
+    interpolated linearly between bin centres, periodic in theta."""
+    c = 0.5 * (np.asarray(theta_lo, float) + np.asarray(theta_hi, float))
+    return np.interp(wrap(theta), c, np.asarray(slip_velocity, float), period=2 * np.pi)

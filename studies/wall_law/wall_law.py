@@ -18,7 +18,13 @@ Markdown tables:
    (grainlift.wall.saturating_fit), and the large-box runs against the fit;
 4. with --fem-sweep DIR (folders of `grainlift run ... --solver fem --set
    continuum.wall_friction=...`): the continuum's torque and lift against its wall friction,
-   and the wall friction that gives the DEM's torque at each Omega."""
+   and the wall friction that gives the DEM's torque at each Omega;
+5. with --write-wall FILE (runs with /histogram/slip_velocity, grainlift after 67a8481): the
+   slip law against the measured slip speed |v_s| (m/s; grainlift.wall.slip_law, at every
+   loaded angle of every such run, v_s interpolated from the histogram's bins), and the
+   effective friction, the runs' mu_w pooled (grainlift.stats.pooled_mean); both written as
+   the [wall] table of the rheology file FILE (replacing one it has), which
+   `continuum.wall_law = "measured"` reads."""
 import argparse
 import math
 import os
@@ -128,6 +134,8 @@ def local_points(rows, prefix, threshold):
         xs.append(np.abs(wall.slip_speed(th[s], x["omega"])))
         ys.append(np.abs(st[s]) / sn[s])
         es.append(np.hypot(et[s], ys[-1] * en[s]) / sn[s])
+    if not xs:
+        return np.array([]), np.array([]), np.array([])
     return np.concatenate(xs), np.concatenate(ys), np.concatenate(es)
 
 
@@ -154,6 +162,56 @@ def print_slip_law(rows, threshold):
         fit = a + (b - a) * xb / (xb + x0)
         print(f"\nlarge box against the fit: {len(xb)} angles, mean (ratio - fit) = "
               f"{np.mean(yb - fit):+.3f}, rms {np.sqrt(np.mean((yb - fit) ** 2)):.3f}")
+
+
+def measured_points(rows, threshold):
+    """(|v_s|, ratio, error) at every loaded angle of the runs that recorded the slip
+    velocity: v_s (m/s) the measured slip at that angle (wall.slip_at), ratio = |sigma_t| /
+    sigma_n with its error from the per-angle block errors."""
+    vs, ys, es = [], [], []
+    for x in rows:
+        r = x["dem"]
+        if "histogram/slip_velocity" not in r:
+            continue
+        th, sn, st, en, et = surface(r)
+        s = wall.loaded(sn, threshold)
+        h = r["histogram"]
+        vs.append(np.abs(wall.slip_at(th[s], h["theta_lo"], h["theta_hi"],
+                                      h["slip_velocity"])))
+        ys.append(np.abs(st[s]) / sn[s])
+        es.append(np.hypot(et[s], ys[-1] * en[s]) / sn[s])
+    if not vs:
+        return None
+    return np.concatenate(vs), np.concatenate(ys), np.concatenate(es)
+
+
+def write_wall(path, rows, threshold):
+    """Fits the slip law on the measured slip, pools mu_w, and writes the [wall] table of
+    the rheology file @p path (replacing its [wall], which the writers put last)."""
+    pts = measured_points(rows, threshold)
+    if pts is None:
+        sys.exit("--write-wall: no run has /histogram/slip_velocity (rerun the DEM)")
+    law = wall.slip_law(*pts)
+    used = [x for x in rows if "histogram/slip_velocity" in x["dem"]]
+    p = pooled_mean([x["w"].mu for x in used], [x["w"].error for x in used])
+    print(f"\nslip law on the measured slip ({law.points} angles of {len(used)} runs): "
+          f"mu_a = {law.mu_a:.3f} +- {law.mu_a_err:.3f}, mu_b = {law.mu_b:.3f} +- "
+          f"{law.mu_b_err:.3f}, v0 = {law.v0:.4f} +- {law.v0_err:.4f} m/s, chi2/dof = "
+          f"{law.chi2_per_dof:.2f}; friction (pooled mu_w) {p.mean:.3f} +- {p.error:.3f}")
+    with open(path) as f:
+        lines = f.read().rstrip("\n").split("\n")
+    if "[wall]" in lines:  # drop the old table and the comments just above it
+        i = lines.index("[wall]")
+        end = next((k for k in range(i + 1, len(lines)) if lines[k].startswith("[")),
+                   len(lines))
+        while i > 0 and lines[i - 1].startswith("#"):
+            i -= 1
+        lines = lines[:i] + lines[end:]
+    text = "\n".join(lines).rstrip("\n")
+    src = f"studies/wall_law/wall_law.py: {len(used)} runs, threshold {threshold}"
+    with open(path, "w") as f:
+        f.write(text + "\n" + wall.wall_table(law, p.mean, p.error, src))
+    print(f"wrote the [wall] table of {path}")
 
 
 def print_fem_sweep(folder, rows):
@@ -192,6 +250,9 @@ def main():
     ap.add_argument("--fem-sweep", help="folder of FEM runs at several continuum.wall_friction")
     ap.add_argument("--threshold", type=float, default=wall.THRESHOLD,
                     help="fraction of the largest sigma_n an angle must carry (default 0.5)")
+    ap.add_argument("--write-wall", metavar="RHEOLOGY_FILE",
+                    help="fit the slip law on the measured slip and write it as the file's "
+                         "[wall] table (continuum.wall_law = \"measured\")")
     a = ap.parse_args()
     rows = [measure(n, f, a.threshold) for n, f in run_folders(a.runs)]
     rows = [x for x in rows if "histogram" in x["dem"]]
@@ -202,6 +263,8 @@ def main():
     print_slip_law(rows, a.threshold)
     if a.fem_sweep:
         print_fem_sweep(a.fem_sweep, rows)
+    if a.write_wall:
+        write_wall(a.write_wall, rows, a.threshold)
 
 
 if __name__ == "__main__":

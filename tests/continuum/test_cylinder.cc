@@ -161,6 +161,38 @@ TEST(Cylinder, FrictionlessWallTransmitsNoTorque) {
   EXPECT_LT(std::abs(out.fy), 1e-6 * drag);
 }
 
+// The grains' slip law on the Coulomb wall, mu_w(s) = mu_a + (mu_b - mu_a) |s| / (|s| + v0)
+// (studies/wall_law): with mu_a = mu_b = 0.3 it is the constant wall of friction 0.3 (forces
+// equal to 1e-9 relative, through the law's own residual and Newton derivative); with mu_a =
+// 0.03, mu_b = 0.3 it converges and its torque lies strictly between those of the constant
+// walls at 0.03 and 0.3 (a friction between the two at every point, the spin's slip one-signed).
+TEST(Cylinder, SlipLawWallLiesBetweenItsLimits) {
+  ContinuumConfig c = coarse_case();
+  c.wall = WallCondition::coulomb;
+  c.intruder_omega = 2.0 * c.intruder_velocity[0] / (0.5 * c.intruder_diameter);
+  auto torque = [&](double mu_w, double mu_a, double mu_b, double v0) {
+    ContinuumConfig k = c;
+    k.wall_friction = mu_w;
+    k.wall_mu_a = mu_a;
+    k.wall_mu_b = mu_b;
+    k.wall_v0 = v0;
+    const ContinuumOutput out = solve_flow(k);
+    EXPECT_TRUE(out.converged) << out.message;
+    return out;
+  };
+  const double v0 = 0.1 * c.intruder_velocity[0];
+  const ContinuumOutput constant = torque(0.3, 0, 0, 0);
+  const ContinuumOutput flat = torque(0.5, 0.3, 0.3, v0);  // wall_friction unused by the law
+  EXPECT_NEAR(flat.torque, constant.torque, 1e-9 * std::abs(constant.torque));
+  EXPECT_NEAR(flat.fx, constant.fx, 1e-9 * std::abs(constant.fx));
+  const ContinuumOutput low = torque(0.03, 0, 0, 0);
+  const ContinuumOutput law = torque(0.5, 0.03, 0.3, v0);
+  std::printf("slip-law wall: T = %.5g between %.5g (0.03) and %.5g (0.3)\n", law.torque,
+              low.torque, constant.torque);
+  EXPECT_LT(law.torque, low.torque);  // torques are negative: opposing the spin
+  EXPECT_GT(law.torque, constant.torque);
+}
+
 // Sampled fields (point values at the bin centres): NaN inside the intruder and outside the box,
 // the far-field velocity -V on the inflow boundary (to 1e-9 m/s), the lithostatic normal stress on
 // the outflow boundary (to 10% of P0 pointwise: the traction is imposed weakly and this mesh is the

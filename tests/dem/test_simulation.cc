@@ -353,6 +353,7 @@ TEST(Simulation, ResumedRunGivesTheBitsOfTheUninterruptedRun) {
       for (std::size_t k = 0; k < whole.contacts.size(); ++k) {
         ASSERT_EQ(whole.contacts[k].fn, resumed.contacts[k].fn) << "contact " << k;
         ASSERT_EQ(whole.contacts[k].theta, resumed.contacts[k].theta) << "contact " << k;
+        ASSERT_EQ(whole.contacts[k].vt, resumed.contacts[k].vt) << "contact " << k;
       }
       ASSERT_EQ(whole.lid.size(), resumed.lid.size());
       for (std::size_t k = 0; k < whole.lid.size(); ++k) {
@@ -546,7 +547,9 @@ TEST(Simulation, ExcessiveOverlapIsARunFailure) {
 // (V_t,P = V (Omega - sin theta) > 0), so the friction on the intruder is clockwise: ft < 0 for
 // (at least 90% of) the slipping contacts, ft ~ -mu fn there (1e-6 relative). Contacts sit on the
 // front (|theta| < pi/2 for at least 80% of them) and are compressive (mean fn > 0). The
-// torque of the grains opposes the spin (mean torque < 0).
+// torque of the grains opposes the spin (mean torque < 0). The slip velocity vt (the surface
+// against the grain) is counter-clockwise (> 0) at 90% of the slipping contacts, and the
+// friction on the intruder opposes it (ft vt < 0) at 90% of them: a Coulomb contact.
 TEST(Simulation, IntruderContactSignConventions) {
   auto c = small_case(30, 20, 0.3);
   c.travel = 4;
@@ -554,7 +557,7 @@ TEST(Simulation, IntruderContactSignConventions) {
   c.sample_every = 10;
   const auto out = gd::run_simulation(c);
   ASSERT_GT(out.contacts.size(), 50u);
-  int front = 0, slipping = 0, clockwise = 0;
+  int front = 0, slipping = 0, clockwise = 0, ccw_slip = 0, opposing = 0;
   double fn_sum = 0;
   for (const auto& k : out.contacts) {
     if (std::abs(k.theta) < 0.5 * kPi) ++front;
@@ -564,6 +567,8 @@ TEST(Simulation, IntruderContactSignConventions) {
     if (k.slipping) {
       ++slipping;
       if (k.ft < 0) ++clockwise;
+      if (k.vt > 0) ++ccw_slip;
+      if (k.ft * k.vt < 0) ++opposing;
       EXPECT_NEAR(std::abs(k.ft), 0.5 * std::abs(k.fn), 1e-6 * std::abs(k.fn));
     }
   }
@@ -572,6 +577,8 @@ TEST(Simulation, IntruderContactSignConventions) {
   EXPECT_GT(fn_sum, 0.0);
   ASSERT_GT(slipping, 10);
   EXPECT_GT(clockwise, 0.9 * slipping);
+  EXPECT_GT(ccw_slip, 0.9 * slipping);
+  EXPECT_GT(opposing, 0.9 * slipping);
   double torque = 0;
   for (std::size_t i = out.steady_start_index; i < out.samples.size(); ++i)
     torque += out.samples[i].torque;

@@ -315,6 +315,84 @@ TEST(CaseLoader, RheologyFileReplacesTheContinuumLaw) {
   fs::remove_all(dir);
 }
 
+// continuum.wall_law: "coulomb" by default (the wall's friction is continuum.wall_friction,
+// default intruder.friction = grains.friction 0.5: today's results); "measured" takes the
+// friction of the rheology file's [wall] table exactly, "measured_slip" its slip law (mu_a,
+// mu_b, v0 exactly; v0 = 0, no law, otherwise); both are refused with a line that says
+// why without a rheology file, with a file that has no [wall], beside continuum.wall_friction,
+// or on a no-slip wall.
+TEST(CaseLoader, MeasuredWallLawTakesTheRheologyFilesWallFriction) {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("grainlift_wall_law_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::vector<grainlift::ShearPoint> pts;
+  for (int k = 0; k < 8; ++k) {
+    const double I = 1e-3 * std::pow(2.4, k);
+    pts.push_back({I, grainlift::jop_mu(I, 0.26, 0.8, 0.3), 0.005, 0.81 - 0.3 * I, 0.002});
+  }
+  grainlift::RheologyFile law = grainlift::make_rheology_file(pts, {{"grains", "test"}});
+  grainlift::write_rheology_file((dir / "plain.toml").string(), law);
+  grainlift::WallLaw w;
+  w.friction = 0.205;
+  w.friction_err = 0.038;
+  w.mu_a = 0.03;
+  w.mu_a_err = 0.01;
+  w.mu_b = 0.33;
+  w.mu_b_err = 0.03;
+  w.v0 = 0.079;
+  w.v0_err = 0.01;
+  w.chi2_per_dof = 0.78;
+  w.points = 142;
+  law.wall = w;
+  grainlift::write_rheology_file((dir / "wall.toml").string(), law);
+  const std::string case_path = (dir / "case.toml").string();
+  const std::string coulomb = base + "[continuum]\nwall = \"coulomb\"\n";
+
+  const grainlift::Case d = grainlift::parse_case(coulomb, case_path);
+  EXPECT_EQ(d.continuum.wall_law, "coulomb");
+  EXPECT_EQ(d.continuum.wall_friction, 0.5);
+  const grainlift::Case m = grainlift::parse_case(
+      coulomb + "rheology_file = \"wall.toml\"\nwall_law = \"measured\"\n", case_path);
+  EXPECT_EQ(m.continuum.wall_law, "measured");
+  EXPECT_EQ(m.continuum.wall_friction, 0.205);
+  EXPECT_EQ(m.continuum.mu_s, law.mu_i.mu_s);
+  EXPECT_EQ(m.continuum.wall_v0, 0.0);  // constant: no slip law
+  const grainlift::Case ms = grainlift::parse_case(
+      coulomb + "rheology_file = \"wall.toml\"\nwall_law = \"measured_slip\"\n", case_path);
+  EXPECT_EQ(ms.continuum.wall_mu_a, 0.03);
+  EXPECT_EQ(ms.continuum.wall_mu_b, 0.33);
+  EXPECT_EQ(ms.continuum.wall_v0, 0.079);
+  EXPECT_EQ(d.continuum.wall_v0, 0.0);
+  // the same through --set
+  const grainlift::Case s = grainlift::parse_case(
+      coulomb + "rheology_file = \"wall.toml\"\n", case_path,
+      {"continuum.wall_law=\"measured\""});
+  EXPECT_EQ(s.continuum.wall_friction, 0.205);
+
+  auto error = [&](const std::string& text) {
+    try {
+      grainlift::parse_case(text, case_path);
+    } catch (const grainlift::InputError& x) {
+      return std::string(x.what());
+    }
+    return std::string();
+  };
+  std::string e = error(coulomb + "wall_law = \"measured\"\n");
+  EXPECT_TRUE(contains(e, "case.toml:20: continuum.wall_law = \"measured\" reads the [wall] "
+                          "table of continuum.rheology_file")) << e;
+  e = error(coulomb + "rheology_file = \"plain.toml\"\nwall_law = \"measured\"\n");
+  EXPECT_TRUE(contains(e, "plain.toml has no [wall] table")) << e;
+  e = error(coulomb + "rheology_file = \"wall.toml\"\nwall_law = \"measured\"\n"
+                      "wall_friction = 0.3\n");
+  EXPECT_TRUE(contains(e, "case.toml:22: continuum.wall_friction and continuum.wall_law")) << e;
+  e = error(base + "[continuum]\nrheology_file = \"wall.toml\"\nwall_law = \"measured\"\n");
+  EXPECT_TRUE(contains(e, "needs continuum.wall = \"coulomb\"")) << e;
+  e = error(coulomb + "wall_law = \"calibrated\"\n");
+  EXPECT_TRUE(contains(e, "coulomb") && contains(e, "measured")) << e;
+  fs::remove_all(dir);
+}
+
 // Guillard et al. (2014), Sec. II: three ways of putting the intruder at depth h. All three
 // give the same confining pressure P0 = rho g h at the centre (rho = Phi rho_s); the free surface
 // and the heavy lid with the gradient rho g, the lid alone without it. The equivalent depth of

@@ -75,6 +75,7 @@ RunResult full_result(std::size_t n_samples = 100) {
     h.tangential_force.push_back(-1.0 * k);
     h.slip_fraction.push_back(0.25 * k);
   }
+  h.slip_velocity = std::vector<double>{0.1, -0.2, 0.0, 0.3};
   r.histogram = h;
   FieldGrid g;
   g.x = {-0.1, 0.0, 0.1};
@@ -131,6 +132,7 @@ void expect_equal(const RunResult& a, const RunResult& b) {
   ASSERT_EQ(a.histogram.has_value(), b.histogram.has_value());
   if (a.histogram) {
     EXPECT_EQ(a.histogram->slip_fraction, b.histogram->slip_fraction);
+    EXPECT_EQ(a.histogram->slip_velocity, b.histogram->slip_velocity);
   }
   ASSERT_EQ(a.fields.has_value(), b.fields.has_value());
   ASSERT_EQ(a.lid.has_value(), b.lid.has_value());

@@ -243,6 +243,70 @@ TEST(RheologyFile, WriteThenReadGivesTheSameValues) {
   fs::remove_all(dir);
 }
 
+TEST(RheologyFile, WallTableIsOptionalAndReadsBackBitForBit) {
+  // A file without [wall] reads with no wall law; one with it (the study's numbers,
+  // studies/wall_law/README.md) reads back bit for bit; a wall law out of range (v0 <= 0, a
+  // negative friction) or with a typo'd key is refused naming the table and the key.
+  std::mt19937_64 rng(5);
+  RheologyFile d = make_rheology_file(synthetic(jop_law, 0.005, 0.002, &rng), {});
+  EXPECT_FALSE(d.wall.has_value());
+  const fs::path dir = scratch_dir("wall");
+  const std::string plain = (dir / "plain.toml").string();
+  write_rheology_file(plain, d);
+  EXPECT_FALSE(read_rheology_file(plain).wall.has_value());
+  WallLaw w;
+  w.friction = 0.205;
+  w.friction_err = 0.038;
+  w.mu_a = 0.03;
+  w.mu_a_err = 0.01;
+  w.mu_b = 1.0 / 3.0;
+  w.mu_b_err = 0.03;
+  w.v0 = 0.0791;
+  w.v0_err = 0.012;
+  w.chi2_per_dof = 0.78;
+  w.points = 142;
+  d.wall = w;
+  const std::string path = (dir / "wall.toml").string();
+  write_rheology_file(path, d);
+  const RheologyFile r = read_rheology_file(path);
+  ASSERT_TRUE(r.wall.has_value());
+  EXPECT_EQ(r.wall->friction, w.friction);
+  EXPECT_EQ(r.wall->friction_err, w.friction_err);
+  EXPECT_EQ(r.wall->mu_a, w.mu_a);
+  EXPECT_EQ(r.wall->mu_a_err, w.mu_a_err);
+  EXPECT_EQ(r.wall->mu_b, w.mu_b);
+  EXPECT_EQ(r.wall->mu_b_err, w.mu_b_err);
+  EXPECT_EQ(r.wall->v0, w.v0);
+  EXPECT_EQ(r.wall->v0_err, w.v0_err);
+  EXPECT_EQ(r.wall->chi2_per_dof, w.chi2_per_dof);
+  EXPECT_EQ(r.wall->points, w.points);
+  EXPECT_EQ(r.mu_i.mu_s, d.mu_i.mu_s);
+  const std::string text = slurp(path);
+  auto refused = [&](const std::string& name, const std::string& content,
+                     const std::vector<std::string>& words) {
+    const std::string p = (dir / name).string();
+    std::ofstream(p) << content;
+    try {
+      read_rheology_file(p);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(p), std::string::npos) << m;
+      for (const auto& x : words) EXPECT_NE(m.find(x), std::string::npos) << x << " in " << m;
+    }
+  };
+  refused("v0.toml", std::regex_replace(text, std::regex(R"(\nv0 = [^\n]*)"), "\nv0 = 0"),
+          {"[wall]", "v0", "> 0"});
+  refused("friction.toml",
+          std::regex_replace(text, std::regex(R"(\nfriction = [^\n]*)"), "\nfriction = -0.1"),
+          {"[wall]", "friction", ">= 0"});
+  refused("typo.toml", std::regex_replace(text, std::regex(R"(\nmu_b_err =)"), "\nmub_err ="),
+          {"[wall]", "unknown key 'mub_err'"});
+  refused("missing.toml", std::regex_replace(text, std::regex(R"(\nv0_err = [^\n]*)"), ""),
+          {"[wall]", "v0_err", "missing"});
+  fs::remove_all(dir);
+}
+
 TEST(RheologyFile, RefusesCorruptFilesNamingFileAndKey) {
   // A law that is not a law (mu_2 < mu_s), a missing key, a typo'd key and a file that is not
   // TOML are refused with an InputError that names the file (and the key and its range).

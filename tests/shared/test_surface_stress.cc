@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "grainlift/shared/surface/surface_stress.h"
@@ -89,11 +90,12 @@ TEST(SurfaceStress, IntegratedForceOfAKnownDistribution) {
 
 TEST(SurfaceStress, HistogramBinsAtPiOverTwelve) {
   // 24 bins from -pi: a contact at theta = 0.01 falls in bin 12, at -0.01 in bin 11; slip
-  // fraction and per-frame means are exact.
+  // fraction and per-frame means are exact; the slip velocity is a mean per contact that
+  // leaves out the contacts without one (NaN).
   ContactHistogram h(24);
-  h.add(0.01, 2.0, 1.0, true);
-  h.add(0.02, 4.0, -1.0, false);
-  h.add(-0.01, 1.0, 0.0, false);
+  h.add(0.01, 2.0, 1.0, true, 0.5);
+  h.add(0.02, 4.0, -1.0, false, -0.25);
+  h.add(-0.01, 1.0, 0.0, false, std::numeric_limits<double>::quiet_NaN());
   h.end_frame();
   h.end_frame();
   const auto r = h.result();
@@ -103,6 +105,17 @@ TEST(SurfaceStress, HistogramBinsAtPiOverTwelve) {
   EXPECT_DOUBLE_EQ(r.slip_fraction[12], 0.5);
   EXPECT_DOUBLE_EQ(r.contact_count[11], 0.5);
   EXPECT_DOUBLE_EQ(r.slip_fraction[0], 0.0);
+  ASSERT_TRUE(r.slip_velocity.has_value());
+  EXPECT_DOUBLE_EQ((*r.slip_velocity)[12], 0.125);  // (0.5 - 0.25) / 2 contacts
+  EXPECT_DOUBLE_EQ((*r.slip_velocity)[11], 0.0);    // its one contact had none
+}
+
+TEST(SurfaceStress, HistogramWithoutSlipVelocities) {
+  // Contacts without a slip velocity (a LAMMPS import): no /histogram/slip_velocity.
+  ContactHistogram h(4);
+  h.add(0.3, 1.0, 0.0, false, std::numeric_limits<double>::quiet_NaN());
+  h.end_frame();
+  EXPECT_FALSE(h.result().slip_velocity.has_value());
 }
 
 TEST(SurfaceStress, WrapAngle) {

@@ -282,7 +282,9 @@ IntruderSample checked_sample(DemSystem& s, const DemConfig& c, long long k,
 }
 
 /// The grains touching the intruder now, as contacts of sample @p index (angle, normal force
-/// compressive positive, tangential force on the intruder counter-clockwise positive).
+/// compressive positive, tangential force on the intruder counter-clockwise positive, slip
+/// velocity of the intruder's surface against the grain's contact point counter-clockwise
+/// positive).
 void record_contacts(const DemSystem& s, std::size_t index, DemOutput& out) {
   const IntruderContacts& ic = s.intruder_contacts();
   for (std::size_t q = 0; q < ic.grain.size(); ++q) {
@@ -294,6 +296,7 @@ void record_contacts(const DemSystem& s, std::size_t index, DemOutput& out) {
     con.theta = th;
     con.fn = ic.fn[q];   // the grain pushes the intruder inward: compressive positive
     con.ft = -ic.ft[q];  // force on the intruder, counter-clockwise positive
+    con.vt = -ic.vt[q];  // the surface against the grain: the sign flip of ft
     con.slipping = ic.slipping[q] != 0;
     out.contacts.push_back(con);
   }

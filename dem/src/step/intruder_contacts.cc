@@ -28,7 +28,7 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
     const double d2 = dx * dx + dy * dy;
     if (d2 >= rs * rs) {
       ic_.sx[c] = ic_.sy[c] = 0;
-      ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = 0;
+      ic_.fx[c] = ic_.fy[c] = ic_.fn[c] = ic_.ft[c] = ic_.vt[c] = 0;
       ic_.touching[c] = ic_.slipping[c] = 0;
       continue;
     }
@@ -52,6 +52,7 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
     ic_.fy[c] = f.fy;
     ic_.fn[c] = f.fn;
     ic_.ft[c] = f.ftx * tx + f.fty * ty;
+    ic_.vt[c] = kin.vtx * tx + kin.vty * ty;
     ic_.nx[c] = kin.nx;
     ic_.ny[c] = kin.ny;
     ic_.touching[c] = 1;

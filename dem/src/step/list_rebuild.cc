@@ -42,7 +42,8 @@ void DemSystem::build_lists() {
   const std::size_t nc = ic_.grain.size();
   ic_.sx.assign(nc, 0.0);
   ic_.sy.assign(nc, 0.0);
-  for (auto* v : {&ic_.fx, &ic_.fy, &ic_.fn, &ic_.ft, &ic_.nx, &ic_.ny}) v->assign(nc, 0.0);
+  for (auto* v : {&ic_.fx, &ic_.fy, &ic_.fn, &ic_.ft, &ic_.nx, &ic_.ny, &ic_.vt})
+    v->assign(nc, 0.0);
   ic_.touching.assign(nc, 0);
   ic_.slipping.assign(nc, 0);
   std::size_t a = 0;

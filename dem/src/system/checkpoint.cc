@@ -12,7 +12,7 @@ namespace grainlift::dem {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'C', 'K', 'P'};
-constexpr std::uint32_t kFormat = 3;  // 3: without the co-moving window's fields
+constexpr std::uint32_t kFormat = 4;  // 4: contacts' slip velocity; 3: no co-moving window
 
 std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
   std::uint64_t h = 1469598103934665603ULL;
@@ -211,7 +211,7 @@ void put_output(Writer& w, const DemOutput& o) {
   w.put<std::uint64_t>(o.contacts.size());
   for (const IntruderContact& c : o.contacts) {
     w.put(c.sample);
-    for (double v : {c.theta, c.fn, c.ft}) w.put(v);
+    for (double v : {c.theta, c.fn, c.ft, c.vt}) w.put(v);
     w.put<std::uint8_t>(c.slipping ? 1 : 0);
   }
   w.put<std::uint64_t>(o.steady_start_index);
@@ -242,10 +242,10 @@ DemOutput get_output(Reader& r) {
     for (double* v : {&s.time, &s.fx, &s.fy, &s.torque}) *v = r.get<double>();
     s.contacts = r.get<std::int32_t>();
   }
-  o.contacts.resize(r.length(4 + 3 * sizeof(double) + 1));
+  o.contacts.resize(r.length(4 + 4 * sizeof(double) + 1));
   for (IntruderContact& c : o.contacts) {
     c.sample = r.get<std::int32_t>();
-    for (double* v : {&c.theta, &c.fn, &c.ft}) *v = r.get<double>();
+    for (double* v : {&c.theta, &c.fn, &c.ft, &c.vt}) *v = r.get<double>();
     c.slipping = r.get<std::uint8_t>() != 0;
     if (c.sample < 0 || std::size_t(c.sample) >= o.samples.size()) {
       throw CheckpointError("corrupt checkpoint: a contact of a sample that does not exist");

@@ -98,6 +98,7 @@ ContinuumSection read_continuum(const toml::table& r, const toml::table& root) {
   cn.gravity_treatment = get_text(r, "continuum.gravity_treatment");
   cn.wall = get_text(r, "continuum.wall");
   cn.wall_friction = get_real(r, "continuum.wall_friction");
+  cn.wall_law = get_text(r, "continuum.wall_law");
   cn.inertia = get_text(r, "continuum.inertia");
   cn.box_half_size = get_vec2(r, "continuum.box_half_size");
   cn.bed_top = r.at_path("continuum.bed_top") ? get_real(r, "continuum.bed_top")
@@ -151,6 +152,20 @@ void cross_checks(const toml::table& r, const Case& c, Diagnostics& diag) {
                "intruder.velocity must not be zero (drag and lift are defined along V)");
   // the continuum's box (solver_box, docs/continuum-model.md "The box")
   const auto& cn = c.continuum;
+  if (cn.wall_law != "coulomb") {
+    const std::string law = fmt::format("continuum.wall_law = \"{}\"", cn.wall_law);
+    if (cn.wall != "coulomb")
+      diag.error(where("continuum.wall_law"),
+                 law + " is a Coulomb wall's friction: it needs continuum.wall = \"coulomb\"");
+    if (cn.rheology_file.empty())
+      diag.error(where("continuum.wall_law"),
+                 law + " reads the [wall] table of continuum.rheology_file: name the file "
+                       "(studies/wall_law/ writes the table)");
+    if (r.at_path("continuum.wall_friction"))
+      diag.error(where("continuum.wall_friction"),
+                 "continuum.wall_friction and " + law +
+                     " both give the wall's friction: remove continuum.wall_friction");
+  }
   if (cn.far_field == "periodic" && (!d.periodic[0] || d.wall_left || d.wall_right))
     diag.error(where("continuum.far_field"),
                "continuum.far_field = \"periodic\" needs a box periodic in x "
@@ -209,6 +224,20 @@ void apply_rheology_file(const toml::table& root, const std::string& name, Case&
     c.continuum.mu_s = law.mu_i.mu_s;
     c.continuum.mu_2 = law.mu_i.mu_2;
     c.continuum.I0 = law.mu_i.I0;
+    if (c.continuum.wall_law != "coulomb") {
+      if (!law.wall)
+        diag.error(diag.where("continuum.wall_law", root.at_path("continuum.wall_law").node()),
+                   fmt::format("continuum.wall_law = \"{}\": {} has no [wall] table "
+                               "(studies/wall_law/wall_law.py --write-wall writes one)",
+                               c.continuum.wall_law, file.string()));
+      else
+        c.continuum.wall_friction = law.wall->friction;
+      if (law.wall && c.continuum.wall_law == "measured_slip") {
+        c.continuum.wall_mu_a = law.wall->mu_a;
+        c.continuum.wall_mu_b = law.wall->mu_b;
+        c.continuum.wall_v0 = law.wall->v0;
+      }
+    }
   } catch (const InputError& e) {
     diag.error(diag.where(key, root.at_path(key).node()), e.what());
   }

@@ -218,6 +218,13 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                      "intruder surface condition"));
   k.push_back(real("continuum.wall_friction", false, "intruder.friction", 0, 10, false, false, "-",
                    "mu_w of the Coulomb wall condition"));
+  k.push_back(choice("continuum.wall_law", "\"coulomb\"",
+                     {"coulomb", "measured", "measured_slip"},
+                     "the Coulomb wall's friction: coulomb = continuum.wall_friction; measured "
+                     "= the grains' effective wall friction, the [wall] table's friction of "
+                     "continuum.rheology_file (studies/wall_law/), constant over the surface; "
+                     "measured_slip = that table's slip law mu_a + (mu_b - mu_a) |s| / (|s| + "
+                     "v0) at the local slip s of the wall"));
   k.push_back(choice("continuum.inertia", "\"auto\"", {"auto", "on", "off"},
                      "rho (u.grad)u term: auto skips it when rho V^2 / P0 is negligible"));
   k.push_back(vec2("continuum.box_half_size", false, "from the domain", 0, 1e4, "m",

@@ -393,6 +393,9 @@ void add_surface_blocks(std::vector<SchemaEntry>& t) {
        "mean summed F_T per sample"),
   data("histogram", "slip_fraction", "1", b, req, dem, at(H, &Hist::slip_fraction),
        "fraction of the bin's contacts with |F_T| = mu |F_N|"),
+  data("histogram", "slip_velocity", "m/s", b, opt, dem, at(H, &Hist::slip_velocity),
+       "mean slip velocity of the bin's contacts: the intruder's surface against the grain's "
+       "contact point, counter-clockwise positive (omega R - V sin theta for grains at rest)"),
   });
 }
 

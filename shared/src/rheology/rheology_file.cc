@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <toml++/toml.h>
 
 #include "grainlift/shared/results/atomic_file.h"
@@ -37,6 +38,13 @@ const NumberKey phi_i_keys[] = {
 const NumberKey point_keys[] = {
     {"I", "finite, > 0"},          {"mu", "finite"}, {"mu_stderr", "finite, > 0"},
     {"phi", "finite, 0 <= phi <= 1"}, {"phi_stderr", "finite, > 0"},
+};
+const NumberKey wall_keys[] = {
+    {"friction", "finite, >= 0"}, {"friction_err", "finite, >= 0"},
+    {"mu_a", "finite, >= 0"},     {"mu_a_err", "finite, >= 0"},
+    {"mu_b", "finite, >= 0"},     {"mu_b_err", "finite, >= 0"},
+    {"v0", "finite, > 0 (m/s)"},  {"v0_err", "finite, >= 0"},
+    {"chi2_per_dof", "finite, >= 0"}, {"points", "integer, >= 4"},
 };
 constexpr const char* covariance_range = "3 arrays of 3 finite numbers, diagonal >= 0";
 
@@ -98,6 +106,18 @@ void validate(const RheologyFile& d, const std::string& where) {
     pt("phi", s.phi, s.phi >= 0 && s.phi <= 1);
     pt("phi_stderr", s.phi_stderr, s.phi_stderr > 0);
   }
+  if (!d.wall) return;
+  const WallLaw& w = *d.wall;
+  auto wl = [&](const char* key, double v, bool ok) {
+    require(std::isfinite(v) && ok, where, "wall", key, v, range_of(wall_keys, key));
+  };
+  const std::pair<const char*, double> non_negative[] = {
+      {"friction", w.friction}, {"friction_err", w.friction_err}, {"mu_a", w.mu_a},
+      {"mu_a_err", w.mu_a_err}, {"mu_b", w.mu_b},                 {"mu_b_err", w.mu_b_err},
+      {"v0_err", w.v0_err},     {"chi2_per_dof", w.chi2_per_dof}};
+  for (const auto& [key, v] : non_negative) wl(key, v, v >= 0);
+  wl("v0", w.v0, w.v0 > 0);
+  wl("points", w.points, w.points >= 4);
 }
 
 // ---- writing
@@ -193,6 +213,25 @@ int get_count(const toml::table& t, const NumberKey (&keys)[N], const std::strin
   return static_cast<int>(count);
 }
 
+/// The optional [wall] table (its ranges are checked by validate).
+WallLaw read_wall(const toml::table& root, const std::string& path) {
+  const toml::table& t = table_of(root, "wall", path);
+  refuse_unknown(t, wall_keys, nullptr, "wall", path);
+  auto num = [&](const char* key) { return get_number(t, wall_keys, key, "wall", path); };
+  WallLaw w;
+  w.friction = num("friction");
+  w.friction_err = num("friction_err");
+  w.mu_a = num("mu_a");
+  w.mu_a_err = num("mu_a_err");
+  w.mu_b = num("mu_b");
+  w.mu_b_err = num("mu_b_err");
+  w.v0 = num("v0");
+  w.v0_err = num("v0_err");
+  w.chi2_per_dof = num("chi2_per_dof");
+  w.points = get_count(t, wall_keys, "wall", path);
+  return w;
+}
+
 }  // namespace
 
 RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
@@ -250,6 +289,21 @@ void write_rheology_file(const std::string& path, const RheologyFile& d) {
     s += fmt::format("\n[[point]]\nI = {}\nmu = {}\nmu_stderr = {}\nphi = {}\nphi_stderr = {}\n",
                      number(q.I), number(q.mu), number(q.mu_stderr), number(q.phi),
                      number(q.phi_stderr));
+  if (d.wall) {
+    const WallLaw& w = *d.wall;
+    s += "\n# the grains' wall law: mu_w(v) = mu_a + (mu_b - mu_a) |v| / (|v| + v0), v in m/s\n"
+         "[wall]\n";
+    line("friction", w.friction);
+    line("friction_err", w.friction_err);
+    line("mu_a", w.mu_a);
+    line("mu_a_err", w.mu_a_err);
+    line("mu_b", w.mu_b);
+    line("mu_b_err", w.mu_b_err);
+    line("v0", w.v0);
+    line("v0_err", w.v0_err);
+    line("chi2_per_dof", w.chi2_per_dof);
+    s += fmt::format("points = {}\n", w.points);
+  }
   write_text_atomically(path, s);
 }
 
@@ -264,9 +318,10 @@ RheologyFile read_rheology_file(const std::string& path) {
   }
   for (const auto& [k, node] : root) {
     const std::string key(k.str());
-    if (key != "source" && key != "mu_i" && key != "phi_i" && key != "point")
-      throw InputError(fmt::format("{}: unknown table '{}' (accepted: source, mu_i, phi_i, point)",
-                                   at(path, &node), key));
+    if (key != "source" && key != "mu_i" && key != "phi_i" && key != "point" && key != "wall")
+      throw InputError(
+          fmt::format("{}: unknown table '{}' (accepted: source, mu_i, phi_i, point, wall)",
+                      at(path, &node), key));
   }
   RheologyFile d;
   if (const toml::table* src = root["source"].as_table()) {
@@ -338,6 +393,7 @@ RheologyFile read_rheology_file(const std::string& path) {
       d.points.push_back({pt("I"), pt("mu"), pt("mu_stderr"), pt("phi"), pt("phi_stderr")});
     }
   }
+  if (root.contains("wall")) d.wall = read_wall(root, path);
   validate(d, path);
   return d;
 }

@@ -1,5 +1,6 @@
 #include "grainlift/shared/surface/surface_stress.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -56,11 +57,17 @@ SurfaceDistribution SurfaceStressEstimator::result() const {
 }
 
 ContactHistogram::ContactHistogram(int bins)
-    : bins_(bins), count_(bins, 0.0), fn_(bins, 0.0), ft_(bins, 0.0), slip_(bins, 0.0) {
+    : bins_(bins),
+      count_(bins, 0.0),
+      fn_(bins, 0.0),
+      ft_(bins, 0.0),
+      slip_(bins, 0.0),
+      vt_(bins, 0.0),
+      vt_count_(bins, 0.0) {
   if (bins < 1) throw std::invalid_argument("ContactHistogram: need at least one bin");
 }
 
-void ContactHistogram::add(double theta, double fn, double ft, bool slipping) {
+void ContactHistogram::add(double theta, double fn, double ft, bool slipping, double vt) {
   const double w = 2 * pi / bins_;
   int b = int(std::floor((wrap_angle(theta) + pi) / w));
   b = std::min(std::max(b, 0), bins_ - 1);
@@ -68,12 +75,19 @@ void ContactHistogram::add(double theta, double fn, double ft, bool slipping) {
   fn_[b] += fn;
   ft_[b] += ft;
   slip_[b] += slipping ? 1 : 0;
+  if (std::isfinite(vt)) {
+    vt_[b] += vt;
+    vt_count_[b] += 1;
+  }
 }
 
 SurfaceHistogram ContactHistogram::result() const {
   SurfaceHistogram h;
   const double w = 2 * pi / bins_;
   const double frames = frames_ > 0 ? double(frames_) : 1.0;
+  const bool with_vt =
+      std::any_of(vt_count_.begin(), vt_count_.end(), [](double n) { return n > 0; });
+  if (with_vt) h.slip_velocity.emplace();
   for (int b = 0; b < bins_; ++b) {
     h.theta_lo.push_back(-pi + b * w);
     h.theta_hi.push_back(-pi + (b + 1) * w);
@@ -81,6 +95,7 @@ SurfaceHistogram ContactHistogram::result() const {
     h.normal_force.push_back(fn_[b] / frames);
     h.tangential_force.push_back(ft_[b] / frames);
     h.slip_fraction.push_back(count_[b] > 0 ? slip_[b] / count_[b] : 0.0);
+    if (with_vt) h.slip_velocity->push_back(vt_count_[b] > 0 ? vt_[b] / vt_count_[b] : 0.0);
   }
   return h;
 }

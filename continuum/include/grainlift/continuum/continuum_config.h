@@ -94,6 +94,9 @@ struct ContinuumConfig {
   RheologyParams rheology;
   WallCondition wall = WallCondition::no_slip;
   double wall_friction = 0.5;           ///< mu_w for the Coulomb wall condition
+  /// A slip law in place of wall_friction when wall_v0 > 0: mu_w(s) = wall_mu_a + (wall_mu_b -
+  /// wall_mu_a) |s| / (|s| + wall_v0), s the local slip (m/s), the grains' measured law.
+  double wall_mu_a = 0, wall_mu_b = 0, wall_v0 = 0;
   InertiaMode inertia = InertiaMode::automatic;
   // ---- added by the continuum engine
   /// InertiaMode::automatic keeps rho (u.grad)u only when rho |V|^2 / P0 >= this value.

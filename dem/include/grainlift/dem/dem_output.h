@@ -23,6 +23,9 @@ struct IntruderContact {
   double theta = 0;   ///< rad, contact angle from +x, counter-clockwise, in (-pi, pi]
   double fn = 0;  ///< N/m, normal force on the intruder, positive when compressive (pushing inward)
   double ft = 0;      ///< N/m, tangential force on the intruder, positive counter-clockwise
+  /// m/s, slip velocity: the intruder's surface relative to the grain's contact point,
+  /// positive counter-clockwise (omega R - V sin(theta) for a grain at rest, not spinning)
+  double vt = 0;
   bool slipping = false;  ///< |ft| reached mu |fn| (to relative 1e-9)
 };
 

@@ -76,6 +76,9 @@ struct IntruderContacts {
   std::vector<double>
       ft;  ///< N, tangential force on the grain along (-n_y, n_x), n intruder->grain
   std::vector<double> nx, ny;    ///< unit normal from the intruder to the grain
+  /// m/s, tangential velocity of the grain's contact point relative to the intruder's surface
+  /// along (-n_y, n_x), at t+dt (the law's v_t): recorded, never used by the step
+  std::vector<double> vt;
   std::vector<std::uint8_t> touching, slipping;
 };
 

@@ -94,7 +94,11 @@ struct ContinuumSection {
   double barker_gray_IN{};      ///< 0 = automatic (see continuum.barker_gray_IN)
   std::string gravity_treatment;  ///< "full" or "linearised"
   std::string wall;
-  double wall_friction{};     ///< default: intruder.friction
+  double wall_friction{};     ///< default: intruder.friction; the [wall] friction if measured
+  std::string wall_law;       ///< "coulomb" (wall_friction), "measured", "measured_slip" ([wall])
+  /// measured_slip: the [wall] slip law, mu_w(s) = mu_a + (mu_b - mu_a) |s| / (|s| + v0);
+  /// wall_v0 = 0 (m/s) otherwise
+  double wall_mu_a{}, wall_mu_b{}, wall_v0{};
   std::string inertia;
   Vec2 box_half_size{};     ///< m; 0 = the case's domain (solver_box)
   double bed_top{};         ///< m, the FE box's top edge; NaN = the domain's (solver_box)

@@ -108,6 +108,9 @@ struct SurfaceHistogram {
   std::vector<double> normal_force;   ///< N/m, mean summed F_N in the bin per sample
   std::vector<double> tangential_force;  ///< N/m, mean summed F_T per sample (ccw positive)
   std::vector<double> slip_fraction;  ///< fraction of contacts in the bin with |F_T| = mu |F_N|
+  /// m/s, mean slip velocity of the bin's contacts (the intruder's surface against the grain's
+  /// contact point, ccw positive); absent where the contacts carry none (a LAMMPS import)
+  std::optional<std::vector<double>> slip_velocity;
 };
 
 /// Fields on a regular grid in the intruder frame; each field may be absent independently.

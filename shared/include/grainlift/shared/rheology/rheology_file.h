@@ -7,15 +7,30 @@
 //                            I_min, I_max (range of the data: the law is measured there only)
 //   [phi_i]                  phi_max, a, *_err, chi2_per_dof, points
 //   [[point]]                I, mu, mu_stderr, phi, phi_stderr (one table per measurement)
+//   [wall]                   optional: the grains' friction at an intruder's surface, friction
+//                            (constant), mu_a, mu_b, v0 (slip law), *_err, chi2_per_dof, points
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "grainlift/shared/rheology/rheology_fit.h"
 
 namespace grainlift {
+
+/// The grains' wall law at an intruder's surface, measured on DEM runs (studies/wall_law/):
+/// the effective Coulomb friction and the slip law
+/// mu_w(v) = mu_a + (mu_b - mu_a) |v| / (|v| + v0), v the slip speed (m/s). Errors one sigma.
+struct WallLaw {
+  double friction = 0, friction_err = 0;  ///< effective constant friction, sum|s_t| / sum s_n
+  double mu_a = 0, mu_a_err = 0;          ///< friction of a surface that does not slip
+  double mu_b = 0, mu_b_err = 0;          ///< friction of a fast slip
+  double v0 = 0, v0_err = 0;              ///< m/s, slip speed half-way from mu_a to mu_b
+  double chi2_per_dof = 0;
+  int points = 0;  ///< (slip, friction) pairs the law was fitted to
+};
 
 /// Everything a rheology file holds.
 struct RheologyFile {
@@ -24,6 +39,7 @@ struct RheologyFile {
   double I_min = 0, I_max = 0;                ///< range of I of the points mu_i was fitted to
   PhiFit phi_i;
   std::vector<ShearPoint> points;             ///< the measurements
+  std::optional<WallLaw> wall;                ///< the [wall] table, when the file has one
 };
 
 /// @brief Fits mu(I) and Phi(I) to @p points and fills a RheologyFile (I_min, I_max from the
@@ -39,7 +55,8 @@ RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
 void write_rheology_file(const std::string& path, const RheologyFile& data);
 
 /// @brief Reads and validates a rheology file: every number finite, 0 <= mu_s < mu_2, I0 > 0,
-/// errors >= 0, 0 < I_min <= I_max, 0 < phi_max <= 1, stderr of each point > 0.
+/// errors >= 0, 0 < I_min <= I_max, 0 < phi_max <= 1, stderr of each point > 0; an optional
+/// [wall] table with 0 <= friction, mu_a, mu_b, v0 > 0, errors >= 0, points >= 4.
 /// @throws InputError naming the file, the key and the accepted range (or the TOML error).
 RheologyFile read_rheology_file(const std::string& path);
 

@@ -49,14 +49,15 @@ class SurfaceStressEstimator {
 class ContactHistogram {
  public:
   explicit ContactHistogram(int bins);
-  /// One contact: angle from V (rad), forces (N/m), whether it slips.
-  void add(double theta, double fn, double ft, bool slipping);
+  /// One contact: angle from V (rad), forces (N/m), whether it slips, its slip velocity
+  /// (m/s, the surface against the grain, ccw positive; NaN when not known: not counted).
+  void add(double theta, double fn, double ft, bool slipping, double vt);
   void end_frame() { ++frames_; }
   SurfaceHistogram result() const;
 
  private:
   int bins_;
-  std::vector<double> count_, fn_, ft_, slip_;
+  std::vector<double> count_, fn_, ft_, slip_, vt_, vt_count_;
   long long frames_ = 0;
 };
 
