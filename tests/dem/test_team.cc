@@ -171,7 +171,9 @@ TEST(Team, DrivenWallGivesTheBitsOfAMoveBeforeEachStep) {
     driven->drive_frozen(b, e, 0.0, dy, 0.0, v, kSteps - 1);
     driven->advance(kSteps / 2);
     driven->advance(kSteps / 2);
-    if (threads > 1) EXPECT_EQ(driven->steps_on_team(), kSteps);
+    if (threads > 1) {
+      EXPECT_EQ(driven->steps_on_team(), kSteps);
+    }
     const std::vector<double> got = snapshot(*driven);
     ASSERT_EQ(got.size(), ref.size());
     std::size_t differ = 0;

@@ -64,7 +64,7 @@ RunResult complete_result() {
   r.surface = s;
   r.histogram = SurfaceHistogram{ramp(bins, -3.14, 0.5), ramp(bins, -2.64, 0.5),
                                  ramp(bins, 0.5, 0.5), ramp(bins, 2, 2), ramp(bins, -1, -1),
-                                 ramp(bins, 0, 0.25)};
+                                 ramp(bins, 0, 0.25), ramp(bins, -0.5, 0.1)};
   FieldGrid g;
   g.x = {-0.1, 0.0, 0.1};
   g.y = {-0.05, 0.05};
