@@ -23,6 +23,7 @@
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/system/system_setup.h"
 #include "bed/packing_cache.h"
+#include "system/fnv1a.h"
 
 namespace grainlift::dem {
 
@@ -230,11 +231,7 @@ void compress_with_wall(const DemConfig& c, std::vector<double>& r, std::mt19937
 }
 
 void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
-  const auto* b = static_cast<const unsigned char*>(data);
-  for (std::size_t k = 0; k < n; ++k) {
-    h ^= b[k];
-    h *= 1099511628211ull;
-  }
+  h = detail::fnv1a(data, n, h);
 }
 template <class T>
 void hash_value(std::uint64_t& h, T v) {
@@ -337,7 +334,7 @@ std::pair<int, int> wall_row(const std::vector<Disk>& walls, double y) {
 }
 
 std::uint64_t packing_hash(const DemConfig& c) {
-  std::uint64_t h = 1469598103934665603ull;
+  std::uint64_t h = detail::kFnvOffset;
   const char version[] = "grainlift-dem-packing-v2";
   hash_bytes(h, version, sizeof version);
   for (double v : {c.xmin, c.xmax, c.ymin, c.ymax, c.gravity[0], c.gravity[1], c.grain_diameter,

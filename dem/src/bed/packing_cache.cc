@@ -2,6 +2,7 @@
 // file and renamed into place, with its format, its key and a checksum; read back only when
 // all three hold. A damaged or foreign entry is removed (and the bed rebuilt by the caller).
 #include "bed/packing_cache.h"
+#include "system/fnv1a.h"
 
 #include <cstring>
 #include <filesystem>
@@ -17,14 +18,6 @@ constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '2'};
 constexpr char kOldMagic[8] = {'G', 'L', 'D', 'E', 'M', 'P', 'K', '1'};
 constexpr std::size_t kHeader = 32;
 
-std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t k = 0; k < n; ++k) {
-    h ^= p[k];
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 template <class T>
 T at(const std::vector<unsigned char>& b, std::size_t offset) {

@@ -3,6 +3,7 @@
 // checksum. Reading checks every length against the bytes left before it allocates, so a
 // truncated or corrupt file is refused, never read past its end.
 #include "grainlift/dem/system/checkpoint.h"
+#include "system/fnv1a.h"
 
 #include <cstring>
 #include <type_traits>
@@ -14,14 +15,7 @@ namespace {
 constexpr char kMagic[8] = {'G', 'L', 'D', 'E', 'M', 'C', 'K', 'P'};
 constexpr std::uint32_t kFormat = 4;  // 4: contacts' slip velocity; 3: no co-moving window
 
-std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (std::size_t k = 0; k < n; ++k) {
-    h ^= p[k];
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
+using detail::fnv1a;
 
 class Writer {
  public:
