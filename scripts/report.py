@@ -18,7 +18,7 @@ import sys
 sys.path[:0] = [os.path.dirname(os.path.realpath(__file__)),  # installed: grainlift/ beside
                 os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python")]
 import numpy as np  # noqa: E402
-from grainlift import io  # noqa: E402
+from grainlift import files, io  # noqa: E402
 from grainlift.plots import field_extent, plt, save_in, theta_degrees  # noqa: E402
 
 SOLVERS = io.SOLVERS
@@ -348,9 +348,11 @@ def write_html(out, runs, summary, images):
                      "intruder or outside the FE mesh are blank.</figcaption></figure>")
     parts.append("</body></html>\n")
     path = os.path.join(out, "report.html")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write("\n".join(parts))
-    return path
+
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write("\n".join(parts))
+    return files.write_atomically(path, write)
 
 
 def main(argv):
@@ -370,9 +372,14 @@ def main(argv):
     sp = os.path.join(out, "summary.json")
     if os.path.exists(sp):
         summary = io.summary(out)
-    images = {"surface": plot_surface(runs, out), "split": plot_split(runs, out)}
-    images["fields"], images["field_names"] = plot_fields(runs, out)
-    print(write_html(out, runs, summary, images))
+    try:
+        images = {"surface": plot_surface(runs, out), "split": plot_split(runs, out)}
+        images["fields"], images["field_names"] = plot_fields(runs, out)
+        print(write_html(out, runs, summary, images))
+    except OSError as e:  # a full disk, a read-only folder: one sentence, the old files kept
+        print(f"{e.filename or out}: cannot write the report: {e.strerror} "
+              f"({files.advice(e)}); the previous files are kept as they were", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -42,7 +42,7 @@ int cmd_calibrate(const CalibrateArgs& a) {
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(cached).parent_path(), ec);
     try {
-      write_rheology_file(cached, cal.law);
+      cache_rheology(cached, cal.law);
     } catch (const RunError& e) {  // the cache is an optimisation: say so, keep the result
       fmt::print("calibrate: not cached ({})\n", e.what());
     }

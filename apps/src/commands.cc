@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <new>
 
 #include "grainlift/shared/results/atomic_file.h"
 #include "grainlift/shared/case/case_keys.h"
@@ -444,6 +445,12 @@ int main_with_args(int argc, char** argv) {
     std::string msg = e.what();
     if (!msg.empty() && msg.back() != '\n') msg += '\n';
     return report_failure("grainlift: bad input:\n" + msg, e.what(), exit_bad_input);
+  } catch (const std::bad_alloc&) {
+    return report_failure(
+        "grainlift: run failed: out of memory (an allocation failed); the results of the "
+        "solvers that had finished are in the --out folder; a smaller case (domain, grains, "
+        "continuum.refinement) or a machine with more memory\n",
+        "out of memory", exit_run_failed);
   } catch (const std::exception& e) {  // RunError and anything else
     return report_failure(std::string("grainlift: run failed: ") + e.what() + "\n", e.what(),
                           exit_run_failed);

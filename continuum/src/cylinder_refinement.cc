@@ -15,6 +15,8 @@
 #include <chrono>
 #include <sstream>
 
+#include "fault_injection.h"
+
 namespace grainlift::continuum::internal {
 
 using namespace dealii;
@@ -78,6 +80,7 @@ void CylinderProblem::refine_flagged_cells() {
 // is close to the converged one of level l, so the final stage alone converges in a few
 // Newton steps where the continuation from the far field takes tens (docs/performance.md).
 void CylinderProblem::solve_next_level(int level) {
+  bad_alloc_here_if_requested(level);  // test hook (fault_injection.h)
   for (const auto& cell : mesh_->tria().active_cell_iterators())
     if (cell->is_locally_owned()) cell->set_refine_flag();
   refine_flagged_cells();

@@ -1,6 +1,7 @@
 #include "fault_injection.h"
 
 #include <cstdlib>
+#include <new>
 #include <stdexcept>
 
 #include "grainlift/continuum/mpi_session.h"
@@ -12,6 +13,12 @@ void fail_here_if_requested(const std::string& where) {
       fail_on && std::string(fail_on) == std::to_string(MpiSession::rank()))
     throw std::runtime_error("GRAINLIFT_TEST_FAIL_ON_RANK=" + std::string(fail_on) +
                              ": test failure " + where);
+}
+
+void bad_alloc_here_if_requested(int level) {
+  if (const char* at = std::getenv("GRAINLIFT_TEST_BAD_ALLOC_AT_LEVEL");
+      at && std::string(at) == std::to_string(level))
+    throw std::bad_alloc();
 }
 
 }  // namespace grainlift::continuum::internal

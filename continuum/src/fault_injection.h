@@ -14,4 +14,9 @@ namespace grainlift::continuum::internal {
 /// @param where  the place, for the message (e.g. "before the nonlinear solve")
 void fail_here_if_requested(const std::string& where);
 
+/// @brief Test hook, not a feature: throws std::bad_alloc, as an allocation that fails would,
+/// when the environment variable GRAINLIFT_TEST_BAD_ALLOC_AT_LEVEL equals @p level (the nested
+/// level about to be solved). Test: MachineFaultsRun (tests/scripts).
+void bad_alloc_here_if_requested(int level);
+
 }  // namespace grainlift::continuum::internal

@@ -256,6 +256,9 @@ class FlowProblem {
   void report_nonconvergence(double relative);
   /// MUMPS on the whole matrix, its linear residual checked (linear_solver.cc).
   void solve_direct(const VectorType& residual, VectorType& update);
+  /// Before the first direct solve on a mesh: MUMPS's analysis of direct_matrix_ estimates
+  /// the factorisation's memory; throws MemoryError when it cannot fit (direct_memory.cc).
+  void check_direct_memory();
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
   int solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance);
   /// Locally owned entries of the reaction -R (unconstrained volume residual) on the velocity
@@ -282,6 +285,7 @@ class FlowProblem {
   VectorType solution_;
   // ---- direct solver: MUMPS on the whole matrix (the blocks copied into it)
   dealii::TrilinosWrappers::SparseMatrix direct_matrix_;
+  bool direct_memory_checked_ = false;  ///< check_direct_memory() done on this mesh
   // ---- block preconditioner (LinearSolver::amg)
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;

@@ -48,6 +48,7 @@ void FlowProblem::solve_direct(const VectorType& residual, VectorType& update) {
         direct_matrix_.set(offset[bi] + i, offset[bj] + j, v);
       });
   direct_matrix_.compress(VectorOperation::insert);
+  if (!direct_memory_checked_) check_direct_memory();
   const IndexSet& owned = dof_handler_.locally_owned_dofs();
   TrilinosWrappers::MPI::Vector b(owned, comm_), x(owned, comm_), r(owned, comm_);
   for (const auto i : owned) b(i) = residual(i);

@@ -4,6 +4,7 @@
 #include "grainlift/continuum/solver.h"
 
 #include <exception>
+#include <new>
 #include <string>
 
 #include "cylinder_problem.h"
@@ -19,6 +20,14 @@ ContinuumOutput solve_flow(const ContinuumConfig& c,
     return internal::CylinderProblem(c, log).run();
   } catch (const ConfigError&) {
     throw;
+  } catch (const OutOfMemory& e) {
+    MpiSession::all_ranks_failed(MpiSession::FailureSite::continuum_solve, e.what(), 1);
+    throw;
+  } catch (const std::bad_alloc&) {
+    const std::string message =
+        "an allocation failed (std::bad_alloc)";
+    MpiSession::all_ranks_failed(MpiSession::FailureSite::continuum_solve, message, 1);
+    throw OutOfMemory(message);
   } catch (const std::exception& e) {
     const std::string message = std::string("continuum solver failed: ") + e.what();
     // on several ranks, a failure of this rank alone ends the run here (the others would wait

@@ -184,6 +184,7 @@ void FlowProblem::setup_system() {
     DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
     full.compress();
     direct_matrix_.reinit(full);
+    direct_memory_checked_ = false;
   } else {
     if (setup_.schur_approximation == SchurApproximation::viscosity_mass) schur_mass_.reinit(sp);
     DoFTools::extract_constant_modes(dof_handler_, fe_.component_mask(kVelocity),

@@ -9,6 +9,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402,F401  (re-exported)
 import numpy as np  # noqa: E402
 
+from . import files  # noqa: E402
+
 THETA_TICKS = range(-180, 181, 60)
 
 
@@ -36,9 +38,13 @@ def field_extent(x, y, D):
 
 
 def save(fig, path, dpi=120):
-    """Writes @p fig to @p path, closes it; the path."""
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
+    """Writes @p fig to @p path (atomically: a failed write keeps the old file), closes it;
+    the path."""
+    fmt = os.path.splitext(path)[1].lstrip(".") or "png"
+    try:
+        files.write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=fmt))
+    finally:
+        plt.close(fig)
     return path
 
 

@@ -78,5 +78,60 @@ class FullDisk(unittest.TestCase):
         self.assertGreater(len(res["forces/fx"]), 0)
 
 
+class TinyFileSystem(unittest.TestCase):
+    """The same on a real full disk: a 100 KB tmpfs, mounted where the machine allows it (as
+    root; CI runs so). The continuum's result is rescued as above; `grainlift report` on a
+    result folder there ends with exit 1 and one sentence, the previous report.html kept."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="grainlift_tinyfs_")
+        self.disk = os.path.join(self.tmp, "disk")
+        os.makedirs(self.disk)
+        p = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=100k", "tmpfs", self.disk],
+                           capture_output=True, text=True)
+        if p.returncode != 0:
+            shutil.rmtree(self.tmp, ignore_errors=True)
+            self.skipTest("mounting a tmpfs is not allowed here (" + p.stderr.strip() +
+                          "); FullDisk covers the same paths through the hook")
+
+    def tearDown(self):
+        subprocess.run(["umount", self.disk], capture_output=True)
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def test_continuum_result_rescued_from_a_full_disk(self):
+        rescue_root = os.path.join(self.tmp, "rescue")
+        os.makedirs(rescue_root)
+        out = os.path.join(self.disk, "out")
+        p = subprocess.run([BINARY, "run", CASE, "--solver", "fem", "--out", out, "--set",
+                            "continuum.refinement=1"], capture_output=True, text=True,
+                           env=dict(os.environ, TMPDIR=rescue_root), timeout=600)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("No space left on device", p.stderr)
+        m = re.search(r"written instead to (\S+/fem.h5)", p.stderr)
+        self.assertIsNotNone(m, p.stderr)
+        self.assertGreater(io.read(m.group(1)).attrs("means")["drag"], 0.0)
+
+    def test_report_on_a_full_disk_keeps_the_previous_page(self):
+        scratch = os.path.join(self.tmp, "scratch")
+        p = subprocess.run([BINARY, "run", CASE, "--solver", "fem", "--out", scratch, "--set",
+                            "continuum.refinement=0", "--quiet"],
+                           capture_output=True, text=True, timeout=600)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        folder = os.path.join(self.disk, "result")
+        os.makedirs(folder)
+        shutil.copy(os.path.join(scratch, "fem.h5"), folder)
+        old = os.path.join(folder, "report.html")
+        with open(old, "w") as f:
+            f.write("the previous report")
+        p = subprocess.run([BINARY, "report", folder], capture_output=True, text=True,
+                           timeout=600)
+        self.assertNotEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("cannot write the report: No space left on device", p.stderr)
+        self.assertIn("the previous files are kept as they were", p.stderr)
+        with open(old) as f:
+            self.assertEqual(f.read(), "the previous report")
+        self.assertEqual([n for n in os.listdir(folder) if ".tmp." in n], [])
+
+
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

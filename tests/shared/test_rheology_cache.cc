@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -128,5 +130,60 @@ TEST(RheologyCache, RunsWithoutALawOfTheirOwnTakeTheCachedCalibration) {
   use_cached_rheology(off);
   EXPECT_EQ(off.continuum.law_source, "default");
   EXPECT_EQ(off.continuum.mu_s, jop_mu_s);
+  fs::remove_all(dir);
+}
+
+// A cache entry carries a checksum of its bytes (cache_rheology): one digit changed in it, or
+// a file cut short, is found when a run looks for the calibration, reported as a damaged cache
+// entry (not as bad input of the case), removed, and the run goes on with the default law as
+// if nothing were cached. The sound entry is taken exactly; so is an entry of the format
+// before checksums (no checksum line), which still reads.
+TEST(RheologyCache, DamagedEntryIsReportedRemovedAndSkipped) {
+  const fs::path dir = scratch("damaged");
+  const RheologyFile law = synthetic_law();
+  Case c = with_cache(dir);
+  const double jop_mu_s = c.continuum.mu_s;
+  const std::string cached = rheology_cache_path(c, c.continuum_pressure());
+  fs::create_directories(fs::path(cached).parent_path());
+  cache_rheology(cached, law);
+  std::string note = use_cached_rheology(c);
+  EXPECT_EQ(c.continuum.law_source, "calibration cache") << note;
+  EXPECT_EQ(c.continuum.mu_s, law.mu_i.mu_s);
+
+  auto damage = [&](auto edit) {
+    std::ifstream in(cached);
+    std::stringstream b;
+    b << in.rdbuf();
+    std::string text = b.str();
+    edit(text);
+    std::ofstream(cached, std::ios::trunc) << text;
+  };
+  // one digit of mu_s changed: still valid TOML and a valid law, but not what was cached
+  damage([](std::string& t) {
+    const std::size_t at = t.find("mu_s = 0.") + 9;
+    t[at] = t[at] == '1' ? '2' : '1';
+  });
+  Case d = with_cache(dir);
+  note = use_cached_rheology(d);
+  EXPECT_NE(note.find("is damaged (its checksum does not match)"), std::string::npos) << note;
+  EXPECT_NE(note.find("grainlift calibrate"), std::string::npos) << note;
+  EXPECT_FALSE(fs::exists(cached));
+  EXPECT_EQ(d.continuum.law_source, "default");
+  EXPECT_EQ(d.continuum.mu_s, jop_mu_s);
+
+  // cut short: the checksum line is gone and what is left is no rheology file
+  cache_rheology(cached, law);
+  damage([](std::string& t) { t.resize(t.size() / 3); });
+  Case e = with_cache(dir);
+  note = use_cached_rheology(e);
+  EXPECT_NE(note.find("is damaged"), std::string::npos) << note;
+  EXPECT_FALSE(fs::exists(cached));
+  EXPECT_EQ(e.continuum.law_source, "default");
+
+  // an entry written before checksums (the plain rheology file) is read as it is
+  write_rheology_file(cached, law);
+  Case f = with_cache(dir);
+  use_cached_rheology(f);
+  EXPECT_EQ(f.continuum.law_source, "calibration cache");
   fs::remove_all(dir);
 }

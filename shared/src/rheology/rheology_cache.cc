@@ -4,10 +4,55 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string_view>
 
-#include "grainlift/shared/rheology/rheology_file.h"
+#include "grainlift/shared/errors.h"
+#include "grainlift/shared/results/atomic_file.h"
 
 namespace grainlift {
+
+namespace {
+
+constexpr std::string_view kCacheLine = "# grainlift cache 1 fnv1a64 ";
+
+std::uint64_t fnv1a64(std::string_view text) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char ch : text) {
+    h ^= ch;
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+/// What is wrong with the cache entry @p path ("" when it is sound): its last line's
+/// checksum against the bytes above it, then its contents as a rheology file.
+std::string cache_entry_fault(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  if (!in) return "it cannot be read";
+  const std::string text = buf.str();
+  const std::size_t last = text.rfind('\n', text.size() >= 2 ? text.size() - 2 : 0);
+  const std::size_t start = last == std::string::npos ? 0 : last + 1;
+  const std::string_view tail = std::string_view(text).substr(start);
+  if (tail.rfind("# grainlift cache ", 0) == 0) {
+    if (tail.rfind(kCacheLine, 0) != 0) return "it is of another cache format";
+    const std::string want =
+        fmt::format("{:016x}", fnv1a64(std::string_view(text).substr(0, start)));
+    if (tail.substr(kCacheLine.size(), 16) != want) return "its checksum does not match";
+  }
+  try {
+    read_rheology_file(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+}  // namespace
 
 std::string cache_folder(const std::string& setting, const std::string& kind) {
   if (setting.empty()) return {};
@@ -29,12 +74,7 @@ std::string grain_material_key(const Case& c, double pressure) {
       "gt {:.17g} E {:.17g} nu {:.17g} e {:.17g} dt {:.17g} P {:.6g}",
       g.diameter, g.polydispersity, g.density, g.friction, k.law, k.kn, k.kt, k.gamma_n,
       k.gamma_t, k.youngs_modulus, k.poisson_ratio, k.restitution, c.dem.dt, pressure);
-  std::uint64_t h = 1469598103934665603ULL;  // FNV-1a 64
-  for (unsigned char ch : text) {
-    h ^= ch;
-    h *= 1099511628211ULL;
-  }
-  return fmt::format("{:016x}", h);
+  return fmt::format("{:016x}", fnv1a64(text));
 }
 
 std::string rheology_cache_path(const Case& c, double pressure) {
@@ -49,12 +89,22 @@ std::string use_cached_rheology(Case& c) {
   const double p = c.continuum_pressure();
   if (!(p > 0)) return {};  // no pressure, no continuum run: the FEM says why
   const std::string path = rheology_cache_path(c, p);
+  const std::string jop = fmt::format(
+      "continuum: mu(I) of Jop et al. 2006 (glass beads: mu_s {}, mu_2 {}, I0 {}), not of "
+      "these grains: ",
+      cn.mu_s, cn.mu_2, cn.I0);
   if (path.empty() || !std::filesystem::exists(path))
-    return fmt::format(
-        "continuum: mu(I) of Jop et al. 2006 (glass beads: mu_s {}, mu_2 {}, I0 {}), not of "
-        "these grains: no calibration is cached for them at {:g} Pa; `grainlift calibrate {}` "
-        "makes one",
-        cn.mu_s, cn.mu_2, cn.I0, p, c.source.path);
+    return fmt::format("{}no calibration is cached for them at {:g} Pa; `grainlift calibrate "
+                       "{}` makes one",
+                       jop, p, c.source.path);
+  if (const std::string fault = cache_entry_fault(path); !fault.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    return fmt::format("warning: the cached calibration {} is damaged ({}): {}; {}the cache "
+                       "entry for {:g} Pa {}; `grainlift calibrate {}` makes it again",
+                       path, fault, ec ? "it could not be removed" : "removed", jop, p,
+                       ec ? "is skipped" : "is gone", c.source.path);
+  }
   const RheologyFile law = read_rheology_file(path);
   cn.mu_s = law.mu_i.mu_s;
   cn.mu_2 = law.mu_i.mu_2;
@@ -65,6 +115,11 @@ std::string use_cached_rheology(Case& c) {
                      "mu_2 {:.4g}, I0 {:.4g}; cached {}); name continuum.mu_s, mu_2, I0 in the "
                      "case to use another law",
                      p, cn.mu_s, cn.mu_2, cn.I0, path);
+}
+
+void cache_rheology(const std::string& path, const RheologyFile& law) {
+  const std::string text = rheology_file_text(law, path);
+  write_text_atomically(path, text + fmt::format("{}{:016x}\n", kCacheLine, fnv1a64(text)));
 }
 
 }  // namespace grainlift

@@ -251,7 +251,7 @@ RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
   return d;
 }
 
-void write_rheology_file(const std::string& path, const RheologyFile& d) {
+std::string rheology_file_text(const RheologyFile& d, const std::string& path) {
   validate(d, path + " (writing)");
   const MuIFit& m = d.mu_i;
   const PhiFit& p = d.phi_i;
@@ -304,7 +304,11 @@ void write_rheology_file(const std::string& path, const RheologyFile& d) {
     line("chi2_per_dof", w.chi2_per_dof);
     s += fmt::format("points = {}\n", w.points);
   }
-  write_text_atomically(path, s);
+  return s;
+}
+
+void write_rheology_file(const std::string& path, const RheologyFile& d) {
+  write_text_atomically(path, rheology_file_text(d, path));
 }
 
 RheologyFile read_rheology_file(const std::string& path) {

@@ -8,12 +8,14 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <optional>
 
 #include "grainlift/shared/results/atomic_file.h"
 #include "grainlift/shared/results/compare.h"
 #include "grainlift/shared/results/derived_quantities.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/run/interrupt.h"
+#include "grainlift/shared/run/output_lock.h"
 #include "grainlift/shared/results/json_writer.h"
 #include "grainlift/shared/results/result_file.h"
 
@@ -136,6 +138,15 @@ void write_solver_files(const std::string& out_dir, const std::string& solver, c
   write_fields_xdmf(out_dir + "/" + solver + "_fields.xmf", solver + ".h5", r);
 }
 
+/// The --out folder, made again with a warning when it was removed while a solver ran.
+void remake_if_removed(const std::string& out_dir, ProgressReporter& progress) {
+  if (std::filesystem::exists(out_dir)) return;
+  progress.message(fmt::format("warning: {} was removed during the run; made again for the "
+                               "result",
+                               out_dir));
+  make_directories(out_dir);
+}
+
 /// The solver's files in @p out_dir; when they cannot be written there (a full disk, a
 /// read-only folder), in a folder of the system's temporary directory instead, and the
 /// RunError (exit 1) says where they are. The result of a long run is never lost to a write.
@@ -162,7 +173,11 @@ void write_solver_files_or_rescue(const std::string& out_dir, const std::string&
 
 std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
                                    const RunOptions& options) {
-  if (options.writer) make_directories(options.out_dir);
+  std::optional<OutputLock> lock;  // one writer per folder (output_lock.h)
+  if (options.writer) {
+    make_directories(options.out_dir);
+    lock.emplace(options.out_dir);
+  }
   std::vector<RunResult> results;
   for (const auto& solver : solvers) {
     ProgressReporter progress(solver.name, options.progress);
@@ -174,6 +189,7 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
         partial.meta.partial = true;
         // an intermediate result that cannot be written is a warning: the solve goes on
         try {
+          remake_if_removed(options.out_dir, progress);
           write_solver_files(options.out_dir, solver.name, partial);
           write_summary(options.out_dir, c.source.hash);
         } catch (const RunError& e) {
@@ -193,6 +209,7 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
     }
     stamp(r, c, solver.name, options, t0);
     if (options.writer) {
+      remake_if_removed(options.out_dir, progress);
       write_solver_files_or_rescue(options.out_dir, solver.name, r, c.source.hash);
     }
     progress.finish();

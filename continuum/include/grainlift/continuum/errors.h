@@ -20,4 +20,12 @@ struct SolverError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// @brief The solve ran out of memory, or would have: the direct solve's estimate (MUMPS's
+/// analysis) does not fit in what the process may still take, or an allocation failed
+/// (std::bad_alloc). what() is one sentence with the need and the limit, without the ways out
+/// (the caller knows the case's keys). Thrown by solve_flow() like SolverError.
+struct OutOfMemory : SolverError {
+  using SolverError::SolverError;
+};
+
 }  // namespace grainlift::continuum

@@ -13,7 +13,8 @@ struct ConfigError : std::runtime_error {
 };
 
 /// A run that blew up while integrating (non-finite state, overlap beyond the stated
-/// fraction of a diameter). The message names the step, the time and the numbers.
+/// fraction of a diameter), or a bed that cannot fit in memory. The message names the step,
+/// the time and the numbers (or the memory needed and the limit).
 struct RunFailure : std::runtime_error {
   explicit RunFailure(const std::string& what) : std::runtime_error(what) {}
 };

@@ -6,11 +6,16 @@
 //   $XDG_CACHE_HOME/grainlift/rheology/rheology-<key>.toml   (dem.packing_cache = "auto")
 //   <dem.packing_cache>/rheology/rheology-<key>.toml         (a folder of the user's)
 //   nothing                                                   (dem.packing_cache = "")
+// An entry is the rheology file with a last line "# grainlift cache 1 fnv1a64 <16 hex>", the
+// cache format and a checksum of every byte above it: a damaged entry is found, reported as a
+// cache problem and removed (an entry written before checksums, without that line, is read
+// as it is).
 #pragma once
 
 #include <string>
 
 #include "grainlift/shared/case/case_model.h"
+#include "grainlift/shared/rheology/rheology_file.h"
 
 namespace grainlift {
 
@@ -29,12 +34,17 @@ std::string grain_material_key(const Case& c, double pressure);
 /// switches caching off).
 std::string rheology_cache_path(const Case& c, double pressure);
 
+/// @brief Writes @p law to the cache entry @p path (made by rheology_cache_path) with its
+/// checksum line, atomically. @throws RunError when it cannot be written.
+void cache_rheology(const std::string& path, const RheologyFile& law);
+
 /// @brief When @p c's continuum has no law of its own (law_source "default") and the cache holds
 /// a rheology file for its grains at c.continuum_pressure(), takes mu_s, mu_2, I0 from it and
 /// sets law_source "calibration cache" and rheology_file to the cached file.
 /// @return a one-line note for the user saying which law the continuum will use and why (empty
 /// when the case states its law, or has no confining pressure: the continuum refuses it).
-/// @throws InputError when the cached file exists but does not read as a rheology file.
+/// A damaged entry (checksum, format or contents) is removed and the note says so: the case
+/// then runs as if nothing were cached.
 std::string use_cached_rheology(Case& c);
 
 }  // namespace grainlift

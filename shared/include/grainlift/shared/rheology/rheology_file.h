@@ -54,6 +54,10 @@ RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
 ///         RunError when the file cannot be written.
 void write_rheology_file(const std::string& path, const RheologyFile& data);
 
+/// @brief The text write_rheology_file() writes (checked the same way; @p path names the file
+/// in an error).
+std::string rheology_file_text(const RheologyFile& data, const std::string& path);
+
 /// @brief Reads and validates a rheology file: every number finite, 0 <= mu_s < mu_2, I0 > 0,
 /// errors >= 0, 0 < I_min <= I_max, 0 < phi_max <= 1, stderr of each point > 0; an optional
 /// [wall] table with 0 <= friction, mu_a, mu_b, v0 > 0, errors >= 0, points >= 4.
