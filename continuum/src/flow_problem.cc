@@ -4,7 +4,8 @@
 //   flow_problem.cc      construction, vector layout, run(), make_state()
 //   system_setup.cc      setup_system(), constraints, initial guess
 //   assembly.cc          assemble_system() (residual, Jacobian or Picard matrix)
-//   linear_solver.cc     solve() (MUMPS or FGMRES with block_preconditioner.h)
+//   linear_solver.cc     solve() (FGMRES with block_preconditioner.h, or MUMPS:
+//                        direct_solver.cc)
 //   nonlinear_solver.cc  solve_nonlinear() (Picard then Newton with a line search)
 //   postprocess/         boundary_forces.cc, surface_traces.cc, point_fields.cc,
 //                        ill_posed_share.cc, error_norms.cc, vtu_output.cc

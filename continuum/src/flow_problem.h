@@ -36,6 +36,7 @@
 
 #include "grainlift/continuum/continuum_config.h"
 #include "grainlift/continuum/mu_i_rheology.h"
+#include "grainlift/shared/machine/memory.h"
 
 namespace grainlift::continuum::internal {
 
@@ -256,9 +257,15 @@ class FlowProblem {
   void report_nonconvergence(double relative);
   /// MUMPS on the whole matrix, its linear residual checked (linear_solver.cc).
   void solve_direct(const VectorType& residual, VectorType& update);
-  /// Before the first direct solve on a mesh: MUMPS's analysis of direct_matrix_ estimates
-  /// the factorisation's memory; throws MemoryError when it cannot fit (direct_memory.cc).
-  void check_direct_memory();
+  /// Before MUMPS's first analysis on a mesh: the measured rule for its memory; throws
+  /// OutOfMemory when it cannot fit (direct_solver.cc).
+  void screen_direct_memory();
+  /// After that analysis: MUMPS's own estimate (its INFOG array); throws OutOfMemory when the
+  /// factorisation cannot fit, logs the estimate otherwise.
+  void check_direct_memory(const int* infog);
+  /// Throws OutOfMemory: the unknowns, @p need bytes, the room left, where @p source comes from.
+  [[noreturn]] void refuse_direct_solve(double need, const grainlift::MemoryRoom& room,
+                                        bool short_here, const char* source) const;
   /// FGMRES with the block upper-triangular preconditioner (see flow_problem.cc).
   int solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance);
   /// Locally owned entries of the reaction -R (unconstrained volume residual) on the velocity
@@ -285,7 +292,7 @@ class FlowProblem {
   VectorType solution_;
   // ---- direct solver: MUMPS on the whole matrix (the blocks copied into it)
   dealii::TrilinosWrappers::SparseMatrix direct_matrix_;
-  bool direct_memory_checked_ = false;  ///< check_direct_memory() done on this mesh
+  bool direct_memory_checked_ = false;  ///< memory checked for this mesh's direct solve
   // ---- block preconditioner (LinearSolver::amg)
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;

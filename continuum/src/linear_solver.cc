@@ -1,5 +1,5 @@
 // FlowProblem's linear solves: system_matrix * update = -residual, direct (MUMPS through
-// Amesos, any number of ranks) or FGMRES with the block preconditioner
+// Amesos, any number of ranks: direct_solver.cc) or FGMRES with the block preconditioner
 // (block_preconditioner.h) on the diagonally scaled system.
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
@@ -30,45 +30,6 @@ int FlowProblem::solve(const VectorType& residual, VectorType& update, double re
   ++report_.linear_solves;
   report_.krylov_iterations += iterations;
   return iterations;
-}
-
-// MUMPS (through Amesos) on the blocks copied into one matrix (global numbering: the blocks'
-// one after the other), on any number of ranks. On one rank it replaced UMFPACK: 1.4x faster
-// on the demo geometry at refinement 3 (44,944 unknowns), and UMFPACK's factors of the Newton
-// Jacobian at refinement 4 (177,440 unknowns, Coulomb wall) left relative residuals of 1e2-1e7
-// where MUMPS's leave 1e-12 (docs/performance.md). The solution's relative residual
-// |A x - b| / |b| is checked after every solve: the worst goes to the report, and one above
-// 1e-8 is logged (the nonlinear solver's line search then rejects the step).
-void FlowProblem::solve_direct(const VectorType& residual, VectorType& update) {
-  const types::global_dof_index offset[2] = {0, n_u_};
-  for (unsigned int bi = 0; bi < 2; ++bi)
-    for (unsigned int bj = 0; bj < 2; ++bj)
-      for_each_entry(system_matrix_.block(bi, bj), [&](types::global_dof_index i,
-                                                       types::global_dof_index j, double v) {
-        direct_matrix_.set(offset[bi] + i, offset[bj] + j, v);
-      });
-  direct_matrix_.compress(VectorOperation::insert);
-  if (!direct_memory_checked_) check_direct_memory();
-  const IndexSet& owned = dof_handler_.locally_owned_dofs();
-  TrilinosWrappers::MPI::Vector b(owned, comm_), x(owned, comm_), r(owned, comm_);
-  for (const auto i : owned) b(i) = residual(i);
-  b.compress(VectorOperation::insert);
-  SolverControl control(1, 0);
-  TrilinosWrappers::SolverDirect direct(
-      control, TrilinosWrappers::SolverDirect::AdditionalData(false, "Amesos_Mumps"));
-  direct.solve(direct_matrix_, x, b);
-  direct_matrix_.vmult(r, x);
-  r -= b;
-  const double nb = b.l2_norm(), rel = nb > 0 ? r.l2_norm() / nb : r.l2_norm();
-  report_.worst_direct_residual = std::max(report_.worst_direct_residual, rel);
-  if (!(rel <= 1e-8) && setup_.log) {
-    std::ostringstream m;
-    m.precision(2);
-    m << "the direct solve left a relative linear residual of " << rel;
-    setup_.log(m.str());
-  }
-  for (const auto i : owned) update(i) = -x(i);
-  update.compress(VectorOperation::insert);
 }
 
 int FlowProblem::solve_iterative(const VectorType& rhs, VectorType& x, double relative_tolerance) {

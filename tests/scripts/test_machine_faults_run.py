@@ -8,6 +8,8 @@ Expected behaviour, each checked:
   measured rule 540 MB, on top of 1.1 GB); the run ends with exit 1 (not MPI_ABORT's 157) and
   one sentence naming the need, the limit ("ulimit -v") and the ways out, and fem.h5 holds
   refinement 3, marked partial;
+- the same limit with the check fooled (GRAINLIFT_TEST_MEMORY_MB=1000000): MUMPS's factorisation
+  itself fails (INFOG(1) = -13, an allocation), and that ends in the same sentence;
 - an allocation that fails inside the continuum (std::bad_alloc, injected at level 2 by the
   hook GRAINLIFT_TEST_BAD_ALLOC_AT_LEVEL): exit 1, the sentence, level 1 kept;
 - a DEM bed too large for the memory left (the hook GRAINLIFT_TEST_MEMORY_MB=1 stands for the
@@ -72,6 +74,19 @@ class MachineFaults(unittest.TestCase):
                       "unknowns needs about", p.stderr)
         self.assertIn("(the limit: ulimit -v, the address space)", p.stderr)
         self.assertIn('continuum.linear_solver = "amg"', p.stderr)
+        self.assertIn("continuum.refinement = 3 or lower", p.stderr)
+        self.assert_partial_level(3)
+
+    def test_factorisation_out_of_memory_is_the_same_sentence(self):
+        # the same limit, but the memory check is told there is plenty (the hook stands for a
+        # limit of 1 TB): MUMPS's own allocation fails (INFOG(1) = -13), which Amesos hands
+        # back as an error code; it ends in the same sentence
+        p = run(self.out, "fem", ["continuum.refinement=4"], limit_bytes=1400 * 1024 * 1024,
+                env={"GRAINLIFT_TEST_MEMORY_MB": "1000000"})
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertNotIn("MPI_ABORT", p.stderr)
+        self.assertIn("the continuum ran out of memory: MUMPS's factorisation failed "
+                      "(INFOG(1) = -13", p.stderr)
         self.assertIn("continuum.refinement = 3 or lower", p.stderr)
         self.assert_partial_level(3)
 
