@@ -80,8 +80,10 @@ class FullDisk(unittest.TestCase):
 
 class TinyFileSystem(unittest.TestCase):
     """The same on a real full disk: a 100 KB tmpfs, mounted where the machine allows it (as
-    root; CI runs so). The continuum's result is rescued as above; `grainlift report` on a
-    result folder there ends with exit 1 and one sentence, the previous report.html kept."""
+    root; CI runs so). The continuum's result is rescued as above, from a full and from a
+    read-only folder; a packing cache there is a warning and the run goes on; `grainlift
+    report` on a result folder there ends with exit 1 and one sentence, the previous
+    report.html kept."""
 
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix="grainlift_tinyfs_")
@@ -110,6 +112,42 @@ class TinyFileSystem(unittest.TestCase):
         m = re.search(r"written instead to (\S+/fem.h5)", p.stderr)
         self.assertIsNotNone(m, p.stderr)
         self.assertGreater(io.read(m.group(1)).attrs("means")["drag"], 0.0)
+
+    def test_result_rescued_from_a_read_only_folder(self):
+        out = os.path.join(self.disk, "out")
+        os.makedirs(out)
+        subprocess.run(["mount", "-o", "remount,ro", self.disk], check=True)
+        rescue_root = os.path.join(self.tmp, "rescue")
+        os.makedirs(rescue_root)
+        p = subprocess.run([BINARY, "run", CASE, "--solver", "fem", "--out", out, "--set",
+                            "continuum.refinement=0"], capture_output=True, text=True,
+                           env=dict(os.environ, TMPDIR=rescue_root), timeout=600)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("Read-only file system (the file system is read-only: choose another "
+                      "--out)", p.stderr)
+        m = re.search(r"written instead to (\S+/fem.h5)", p.stderr)
+        self.assertIsNotNone(m, p.stderr)
+        self.assertGreater(io.read(m.group(1)).attrs("means")["drag"], 0.0)
+
+    def test_packing_cache_on_a_full_disk_is_a_warning(self):
+        # the disk filled first: the prepared bed cannot be cached; the run goes on to its end
+        with open(os.path.join(self.disk, "filler"), "wb", buffering=0) as f:
+            try:
+                while True:
+                    f.write(b"x" * 4096)
+            except OSError:
+                pass
+        cache = os.path.join(self.disk, "cache")
+        out = os.path.join(self.tmp, "out")
+        p = subprocess.run([BINARY, "run", CASE, "--solver", "dem", "--out", out, "--threads",
+                            "1", "--set", "dem.travel=0.3", "--set", "dem.steady_travel=0.1",
+                            "--set", f'dem.packing_cache="{cache}"'],
+                           capture_output=True, text=True, timeout=600)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("warning: the prepared bed was not cached", p.stderr)
+        self.assertIn("No space left on device", p.stderr)
+        self.assertEqual([n for n in os.listdir(cache) if ".tmp." in n], [])
+        self.assertGreater(len(io.read(os.path.join(out, "dem.h5"))["forces/fx"]), 0)
 
     def test_report_on_a_full_disk_keeps_the_previous_page(self):
         scratch = os.path.join(self.tmp, "scratch")

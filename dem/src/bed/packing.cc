@@ -481,7 +481,10 @@ PackedBed prepare_packing(const DemConfig& c, const ProgressCallback& progress) 
   double total = 0;
   for (double v : bed.r) total += kPi * v * v;
   bed.area_fraction = total / area;
-  if (!cache.empty()) detail::save_packing(cache, hash, bed);
+  if (!cache.empty()) {
+    const std::string note = detail::save_packing(cache, hash, bed);
+    if (!note.empty()) bed.cache_note += (bed.cache_note.empty() ? "" : "; ") + note;
+  }
   report(1);
   return bed;
 }

@@ -4,6 +4,7 @@
 #include "bed/packing_cache.h"
 #include "system/fnv1a.h"
 
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -67,7 +68,7 @@ CacheRead load_packing(const std::string& path, std::uint64_t hash, PackedBed& b
   return {true, ""};
 }
 
-void save_packing(const std::string& path, std::uint64_t hash, const PackedBed& bed) {
+std::string save_packing(const std::string& path, std::uint64_t hash, const PackedBed& bed) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(fs::path(path).parent_path(), ec);
@@ -86,18 +87,22 @@ void save_packing(const std::string& path, std::uint64_t hash, const PackedBed& 
   b.insert(b.end(), s, s + 8);
   std::random_device rd;
   const std::string tmp = path + ".tmp." + std::to_string(rd());
+  auto not_cached = [&](const std::string& why) {
+    fs::remove(tmp, ec);
+    return "the prepared bed was not cached (" + path + ": " + why +
+           "); the run goes on, and the next one prepares it again";
+  };
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return;  // the cache is an optimisation: a read-only directory is not an error
+    if (!out) return not_cached(std::strerror(errno ? errno : EIO));
     out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
-    if (!out) {
-      out.close();
-      fs::remove(tmp, ec);
-      return;
-    }
+    out.close();  // a full disk may show only here: never rename a short file into place
+    if (!out) return not_cached(std::strerror(errno ? errno : EIO));
   }
   fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
+  if (ec) return not_cached(ec.message());
+  return {};
 }
 
 }  // namespace grainlift::dem::detail

@@ -19,7 +19,9 @@ struct CacheRead {
 /// reported in the note; no file: not found, no note.
 CacheRead load_packing(const std::string& path, std::uint64_t hash, PackedBed& bed);
 /// Stores @p bed at @p path under key @p hash (a temporary file renamed into place); a folder
-/// that cannot be written is not an error (the cache only saves time).
-void save_packing(const std::string& path, std::uint64_t hash, const PackedBed& bed);
+/// that cannot be written (full, read-only) is not an error (the cache only saves time): the
+/// previous entry is kept, no temporary file is left, and the returned note says why ("" when
+/// it was stored).
+std::string save_packing(const std::string& path, std::uint64_t hash, const PackedBed& bed);
 
 }  // namespace grainlift::dem::detail

@@ -18,7 +18,7 @@ struct PackedBed {
   double area_fraction = 0;  ///< sum of grain areas / accessible area
   bool from_cache = false;
   /// Why a cache entry for this bed was not used (damaged, foreign, older format: removed and
-  /// rebuilt), or "".
+  /// rebuilt) or could not be stored (a full or read-only cache folder), or "".
   std::string cache_note;
 };
 
