@@ -102,6 +102,13 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   f.picard_iterations = c.continuum.picard_iterations;
   f.linear_solver = choice<LinearSolver>(
       c.continuum.linear_solver, {{"direct", LinearSolver::direct}, {"amg", LinearSolver::amg}});
+  f.model = choice<ContinuumModel>(c.continuum.model,
+                                   {{"local", ContinuumModel::local},
+                                    {"nonlocal_fluidity", ContinuumModel::nonlocal_fluidity}});
+  f.nonlocal.amplitude = c.continuum.nonlocal_amplitude;
+  f.nonlocal.max_iterations = c.continuum.nonlocal_iterations;
+  f.nonlocal.relaxation = c.continuum.nonlocal_relaxation;
+  f.nonlocal.tolerance = c.continuum.nonlocal_tolerance;
   // Surface angles: the shared grid (the pointwise trace), then the oversampled grid the
   // smoothed trace is computed from (surface_trace_angles), measured from V as the engine
   // takes them (it turns them into lab angles itself).
@@ -251,6 +258,15 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
         "measured_slip: mu_w(s) = {} + ({} - {}) |s| / (|s| + {} m/s), [wall] of {}",
         c.continuum.wall_mu_a, c.continuum.wall_mu_b, c.continuum.wall_mu_a,
         c.continuum.wall_v0, c.continuum.rheology_file);
+  if (cfg.model == ContinuumModel::nonlocal_fluidity) {  // absent otherwise
+    d.texts["continuum_model"] = fmt::format(
+        "nonlocal_fluidity: A = {}, xi capped at {} m, g_loc from Jop's mu(I) inverted",
+        cfg.nonlocal.amplitude, cfg.nonlocal.xi_max > 0 ? cfg.nonlocal.xi_max
+                                                          : cfg.intruder_diameter);
+    d.counts["nonlocal_iterations"] = out.nonlocal_iterations;
+    d.values["nonlocal_change"] = out.nonlocal_change;
+    d.values["nonlocal_force_change"] = out.nonlocal_force_change;
+  }
   if (coarser) add_mesh_error(m, *coarser, d);
   if (!out.levels.empty()) add_level_series(c, out, d);
   d.series["residual_history"] = out.residual_history;
@@ -348,8 +364,9 @@ SolverEntry solver_entry() {
     ContinuumOutput out;
     std::optional<CoarserLevel> coarser;
     try {
-      const bool estimate =
-          c.continuum.mesh_error_estimate && cfg.refinement >= 1 && cfg.adaptive_cycles == 0;
+      // (the nonlocal model is solved on the requested mesh alone: its coarser levels are local)
+      const bool estimate = c.continuum.mesh_error_estimate && cfg.refinement >= 1 &&
+                            cfg.adaptive_cycles == 0 && cfg.model == ContinuumModel::local;
       if (estimate && !cfg.nested) {
         // an independent solve of the coarser mesh (the requested level does not start from
         // it, so its result is the same with and without the estimate)

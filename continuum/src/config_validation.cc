@@ -5,6 +5,7 @@
 #include <string>
 
 #include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/mpi_session.h"
 #include "grainlift/continuum/mu_i_rheology.h"
 #include "grainlift/continuum/solver.h"
 
@@ -89,6 +90,19 @@ void validate_config(const ContinuumConfig& c) {
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
   require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
   for (const double t : c.surface_theta) require(finite(t), "surface_theta values must be finite");
+  if (c.model == ContinuumModel::nonlocal_fluidity) {
+    const NonlocalParams& n = c.nonlocal;
+    require(finite(n.amplitude) && n.amplitude > 0, "nonlocal amplitude A must be > 0");
+    require(finite(n.xi_max) && n.xi_max >= 0, "nonlocal xi_max must be >= 0 (0: the intruder "
+                                                 "diameter)");
+    require(n.max_iterations >= 1, "nonlocal max_iterations must be >= 1");
+    require(n.tolerance > 0 && n.tolerance < 1, "nonlocal tolerance must be in (0, 1)");
+    require(n.relaxation > 0 && n.relaxation <= 1, "nonlocal relaxation must be in (0, 1]");
+    require(!c.linearised_gravity, "the nonlocal fluidity model solves gravity in full: "
+                                   "continuum.gravity_treatment = \"full\"");
+    require(MpiSession::size() == 1, "the nonlocal fluidity model runs on one MPI rank (its "
+                                     "fluidity solve is serial): run without mpirun");
+  }
   if (c.fields.enabled)
     require(c.fields.spacing > 0 && c.fields.nx > 0 && c.fields.ny > 0,
             "fields need spacing > 0, nx > 0 and ny > 0");

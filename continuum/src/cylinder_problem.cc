@@ -70,9 +70,22 @@ ContinuumOutput CylinderProblem::run() {
     schedule_after_refinement();
     solve_with_continuation();
   }
+  if (config_.model == ContinuumModel::nonlocal_fluidity && problem_->report().converged &&
+      !out_.interrupted)
+    solve_nonlocal_fluidity();
   out_.continuation_splits = splits_;
   if (linearised_) correct_for_gravity();
   report_convergence();
+  if (config_.model == ContinuumModel::nonlocal_fluidity && out_.converged &&
+      !out_.interrupted && !out_.nonlocal_settled) {
+    std::ostringstream os;
+    os << "the nonlocal fluidity did not settle in " << out_.nonlocal_iterations
+       << " iterations (the forces still move by " << out_.nonlocal_force_change
+       << " of their size, tolerance " << config_.nonlocal.tolerance << "; |dg|/|g| = "
+       << out_.nonlocal_change << ")";
+    out_.converged = false;
+    out_.message = os.str();
+  }
   check_well_posedness();
   compute_boundary_outputs();
   if (nested && config_.adaptive_cycles == 0 && !out_.levels.empty() &&

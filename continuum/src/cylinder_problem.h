@@ -13,6 +13,8 @@
 #include "flow_problem.h"
 #include "grainlift/continuum/continuum_config.h"
 #include "grainlift/continuum/mu_i_rheology.h"
+#include "fluidity/fluidity_problem.h"
+#include "fluidity/fluidity_viscosity.h"
 #include "intruder_mesh.h"
 
 namespace grainlift::continuum::internal {
@@ -64,6 +66,9 @@ class CylinderProblem {
   void sample_fields();
   void output_results() const;
   void hand_out_converged_level();
+  /// The nonlocal fluidity model from the converged local state: fluidity and flow solved in
+  /// turn until g settles (fluidity/nonlocal_coupling.cc).
+  void solve_nonlocal_fluidity();
   /// The problem whose state is post-processed: the gravity-corrected one when there is one.
   const FlowProblem& post() const { return corrected_ ? *corrected_ : *problem_; }
   void say(const std::string& s) const;
@@ -94,6 +99,11 @@ class CylinderProblem {
   std::unique_ptr<FlowProblem> corrected_;
   VectorType du_;
   VectorType corrected_base_;  ///< the base state in the problem with gravity (its pressure level)
+
+  // nonlocal fluidity (solve_nonlocal_fluidity()): the g problem, its field, the viscosity
+  std::unique_ptr<fluidity::internal::FluidityProblem> fluidity_;
+  dealii::Vector<double> fluidity_g_;
+  std::unique_ptr<FluidityViscosity> fluidity_viscosity_;
 
   ContinuumOutput out_;
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "flow_problem.h"
+#include "fluidity/fluidity_viscosity.h"
 
 namespace grainlift::continuum::internal {
 
@@ -35,6 +36,8 @@ struct QuadratureRheology {
       in.strain_rate_sq[q] = 0.5 * (sym[q] * sym[q]);  // |D|^2 = D:D/2
       in.pressure[q] = pressure[q];
     }
+    if (const auto* field = dynamic_cast<const FieldViscosity*>(&model))
+      field->fill_fields(fev, in);
     model.evaluate(in, out);
   }
 };

@@ -113,6 +113,11 @@ ContinuumSection read_continuum(const toml::table& r, const toml::table& root) {
   cn.max_iterations = int(get_int(r, "continuum.max_iterations"));
   cn.picard_iterations = int(get_int(r, "continuum.picard_iterations"));
   cn.linear_solver = get_text(r, "continuum.linear_solver");
+  cn.model = get_text(r, "continuum.model");
+  cn.nonlocal_amplitude = get_real(r, "continuum.nonlocal_amplitude");
+  cn.nonlocal_iterations = int(get_int(r, "continuum.nonlocal_iterations"));
+  cn.nonlocal_relaxation = get_real(r, "continuum.nonlocal_relaxation");
+  cn.nonlocal_tolerance = get_real(r, "continuum.nonlocal_tolerance");
   return cn;
 }
 

@@ -275,6 +275,25 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                      "matrix)"));
 }
 
+/// [continuum], the nonlocal model's keys
+void add_nonlocal_keys(std::vector<KeySpec>& k) {
+  k.push_back(choice("continuum.model", "\"local\"", {"local", "nonlocal_fluidity"},
+                     "local = the mu(I) law; nonlocal_fluidity = Kamrin & Koval's nonlocal "
+                     "granular fluidity (eta = p / g, g - xi^2 Laplacian g = g_loc, xi = A d / "
+                     "sqrt|mu - mu_s|), solved from the local state by splitting; one MPI rank, "
+                     "full gravity"));
+  k.push_back(real("continuum.nonlocal_amplitude", false, "0.5", 0, 10, true, true, "-",
+                   "A of the cooperativity length (Kamrin & Koval's glass beads: 0.48)"));
+  k.push_back(integer("continuum.nonlocal_iterations", "60", 1, 1000,
+                      "largest number of splitting iterations (fluidity, then flow)"));
+  k.push_back(real("continuum.nonlocal_tolerance", false, "2e-3", 0, 1, true, true, "-",
+                   "the splitting stops when the force and the torque move by less than this "
+                   "(relative) in two iterations running"));
+  k.push_back(real("continuum.nonlocal_relaxation", false, "0.2", 0, 1, true, false, "-",
+                   "w of the Anderson mixing of log g between splitting iterations (0.5 "
+                   "oscillated on the demo)"));
+}
+
 /// [output]
 void add_output_keys(std::vector<KeySpec>& k) {
   k.push_back(integer("output.angles", "64", 8, 4096, "M, number of angles of the surface grid"));
@@ -301,6 +320,7 @@ std::vector<KeySpec> make_keys() {
   add_contact_keys(k);
   add_dem_keys(k);
   add_continuum_keys(k);
+  add_nonlocal_keys(k);
   add_output_keys(k);
   return k;
 }

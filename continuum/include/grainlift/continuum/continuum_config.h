@@ -37,6 +37,21 @@ enum class InertiaMode { off, on, automatic };
 /// upper-triangular preconditioner (Trilinos AMG on the velocity block, 1/eta-weighted pressure
 /// mass matrix).
 enum class LinearSolver { direct, amg };
+/// local: the mu(I) law of RheologyParams; nonlocal_fluidity: Kamrin & Koval's nonlocal
+/// granular fluidity (NonlocalParams), solved from the local solution by splitting
+enum class ContinuumModel { local, nonlocal_fluidity };
+
+/// The nonlocal granular fluidity model (Kamrin & Koval, PRL 108, 178301, 2012; Henann &
+/// Kamrin, PNAS 110, 6730, 2013): eta = p / g, g - xi^2 Laplacian(g) = g_loc(mu, p),
+/// xi = A d / sqrt|mu - mu_s| (capped at xi_max), g_loc from the inverse of Jop's mu(I).
+struct NonlocalParams {
+  double amplitude = 0.5;    ///< A (dimensionless); Kamrin & Koval's glass beads: 0.48
+  double xi_max = 0;         ///< m, the cap of xi; 0 = the intruder diameter
+  int max_iterations = 60;   ///< splitting iterations (fluidity solve, then flow solve)
+  /// stop when the force and the torque move by less than this (relative) in two iterations
+  double tolerance = 2e-3;
+  double relaxation = 0.2;   ///< w of the Anderson mixing of log g (nonlocal_coupling.cc)
+};
 /// Schur complement approximation S ~ B A^{-1} B^T of the amg preconditioner.
 enum class SchurApproximation {
   diagonal_a,     ///< B diag(A)^{-1} B^T, one AMG V-cycle (default: robust to the eta_min/eta_max
@@ -111,6 +126,8 @@ struct ContinuumConfig {
   /// (uniform far-field pressure P0), then add the first-order correction from one linear solve
   /// with the Newton Jacobian at the base state, J du = -R_g(u_0), R_g the residual with gravity.
   bool linearised_gravity = false;
+  ContinuumModel model = ContinuumModel::local;
+  NonlocalParams nonlocal;
   // ---- numerics
   int refinement = 2;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;
@@ -194,6 +211,14 @@ struct ContinuumOutput {
   /// stages and the stages of each adaptive cycle) of each entry of residual_history
   std::vector<int> residual_stage;
   std::string message;                    ///< why it failed when !converged
+  /// ContinuumModel::nonlocal_fluidity: splitting iterations run, and the last relative change
+  /// of g (|g_k - g_(k-1)| / |g_k|, below NonlocalParams::tolerance when it converged)
+  int nonlocal_iterations = 0;
+  double nonlocal_change = 0;
+  /// the largest relative change of |F| and |T| in the last iteration; settled: it stayed
+  /// below NonlocalParams::tolerance in two iterations running
+  double nonlocal_force_change = 0;
+  bool nonlocal_settled = false;
   bool interrupted = false;               ///< stop_refining() ended it before the requested mesh
   /// nested iteration: every level solved, coarsest first (the last is the requested one,
   /// before any adaptive cycle); empty without nesting

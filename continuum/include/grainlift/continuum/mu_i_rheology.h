@@ -13,6 +13,9 @@ namespace grainlift::continuum {
 struct RheologyInputs {
   std::vector<double> strain_rate_sq;  ///< |D|^2 = D:D / 2, 1/s^2 (D the strain-rate tensor)
   std::vector<double> pressure;        ///< Pa, mechanical pressure -tr(sigma)/2; may be negative
+  /// 1/s, the nonlocal fluidity g at the points (empty for the local laws; filled by the
+  /// nonlocal model itself)
+  std::vector<double> fluidity;
   void resize(std::size_t n) { strain_rate_sq.resize(n); pressure.resize(n); }
   std::size_t size() const { return pressure.size(); }
 };

@@ -112,6 +112,11 @@ struct ContinuumSection {
   int max_iterations{};
   int picard_iterations{};
   std::string linear_solver;
+  std::string model;              ///< "local" | "nonlocal_fluidity"
+  double nonlocal_amplitude{};    ///< A (nonlocal_fluidity)
+  int nonlocal_iterations{};      ///< splitting iterations at most (nonlocal_fluidity)
+  double nonlocal_relaxation{};   ///< w of the splitting (nonlocal_fluidity)
+  double nonlocal_tolerance{};    ///< relative force change at which the splitting stops
 };
 
 struct OutputSection {

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The nonlocal fluidity model against the local mu(I) and the particles (issue 35): the FEM of
+# cases/demo/demo.toml (its box, and the 16 D x 9.6 D box of docs/crosscheck.md) at spin ratios
+# 0, 2, 4, local and nonlocal_fluidity at A = 0.25, 0.5, 1. The DEM's numbers are those of
+# docs/crosscheck.md (same case, same boxes). Prints one table row per run.
+#   studies/nonlocal/nonlocal_study.sh [OUT_DIR]   (default runs/nonlocal; ~15 min on one core)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+O=${1:-runs/nonlocal}
+G=$(realpath "${GRAINLIFT:-build/bin/grainlift}")
+CASE=cases/demo/demo.toml
+BIG=(--set 'domain.x_range=[-0.8,0.8]' --set 'domain.y_range=[-0.48,0.48]')
+run() {  # run NAME ARGS...
+  local name=$1; shift
+  local dir="$O/$name"
+  mkdir -p "$dir"
+  if [[ ! -f "$dir/fem.h5" ]]; then
+    "$G" run "$CASE" --solver fem --quiet --out "$dir" "$@" > "$dir/log.txt" 2>&1 ||
+      { echo "| $name | failed: $(tail -1 "$dir/log.txt" | cut -c1-160) |"; return 0; }
+  fi
+  /usr/bin/python3 - "$dir" "$name" <<'PY'
+import sys
+sys.path.insert(0, "python")
+from grainlift import io
+r = io.read(sys.argv[1], "fem")
+m, d = r.attrs("means"), r.attrs("diagnostics")
+it = d.get("nonlocal_iterations", "-")
+print(f"| {sys.argv[2]} | {m['drag']:.1f} | {m['lift']:.1f} | {m['torque']:.2f} | {it} | "
+      f"{r.wall_seconds:.0f} |")
+PY
+}
+echo "| run | drag (N/m) | lift (N/m) | torque (N) | splitting iterations | wall (s) |"
+echo "|---|---|---|---|---|---|"
+for box in demo big; do
+  extra=()
+  [[ $box == big ]] && extra=("${BIG[@]}")
+  for W in 0 2 4; do
+    omega=$((10 * W))
+    run "${box}_O${W}_local" "${extra[@]}" --set "intruder.omega=$omega"
+    for A in 0.25 0.5 1.0; do
+      run "${box}_O${W}_A${A}" "${extra[@]}" --set "intruder.omega=$omega" \
+        --set 'continuum.model="nonlocal_fluidity"' --set "continuum.nonlocal_amplitude=$A"
+    done
+  done
+done
