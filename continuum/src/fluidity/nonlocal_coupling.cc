@@ -53,9 +53,10 @@ double local_fluidity(double mu, double p, const RheologyParams& r) {
 /// g = G(g): with the last m differences of the iterates (dX) and of the residuals
 /// f = G(g) - g (dF), gamma minimises |f - dF gamma| and
 ///     g <- g + w f - (dX + w dF) gamma,
-/// which is the relaxed step g + w f when m = 0. The plain relaxed iteration oscillated on the
-/// demo (w = 0.5: |dg|/|g| between 0.5 and 1.1 after 40 iterations) and crept at w = 0.2
-/// (0.023 after 40).
+/// which is the relaxed step g + w f when m = 0. On the demo the plain relaxed iteration of g
+/// oscillated (w = 0.5: |dg|/|g| between 0.5 and 1.1 after 40 iterations) or crept (w = 0.2:
+/// 0.023 after 40), and the plain relaxed iteration of log g diverged at Omega 0 (w = 0.3:
+/// the flow's Newton failed at iteration 3).
 class AndersonMixing {
  public:
   AndersonMixing(unsigned int depth, double relaxation) : m_(depth), w_(relaxation) {}
@@ -217,11 +218,11 @@ void CylinderProblem::solve_nonlocal_fluidity() {
     // in two iterations running
     const double dF = std::hypot(out_.fx - last_force[0], out_.fy - last_force[1]);
     const double F = std::hypot(out_.fx, out_.fy), dT = std::abs(out_.torque - last_force[2]);
-    const bool still = dF <= nl.tolerance * F && dT <= nl.tolerance * std::abs(out_.torque);
+    const double T = std::max(std::abs(out_.torque), F * R_);  // a torque scale: |F| R
+    const bool still = dF <= nl.tolerance * F && dT <= nl.tolerance * T;
     settled_runs = still ? settled_runs + 1 : 0;
     last_force = {out_.fx, out_.fy, out_.torque};
-    out_.nonlocal_force_change = std::max(dF / std::max(F, 1e-300),
-                                          dT / std::max(std::abs(out_.torque), 1e-300));
+    out_.nonlocal_force_change = std::max(dF / std::max(F, 1e-300), dT / std::max(T, 1e-300));
     if (settled_runs >= 2) {
       out_.nonlocal_settled = true;
       return;
