@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/rheology/rheology_cache.h"
+#include "grainlift/shared/rheology/rheology_file.h"
 #include "python_script.h"
 #ifdef GRAINLIFT_HAVE_DEM
 #include "grainlift/dem/calibration.h"
@@ -35,6 +38,17 @@ int cmd_calibrate(const CalibrateArgs& a) {
     if (!a.quiet) fmt::print("calibrate: {}\n", line);
   });
   write_rheology_file(out, cal.law);
+  RheologyFile law = cal.law;
+  if (!a.wall_runs.empty()) {  // the wall law, fitted by the Python package into [wall]
+    std::vector<std::string> args = {out};
+    args.insert(args.end(), a.wall_runs.begin(), a.wall_runs.end());
+    const int code = run_python_script("fit_wall.py", args);
+    if (code != 0)
+      throw RunError(fmt::format("calibrate --wall: {} failed (exit {}); {} holds mu(I) and "
+                                 "Phi(I) without [wall]",
+                                 script_path("fit_wall.py"), code, out));
+    law = read_rheology_file(out);
+  }
   // the cache makes it the continuum's default law for these grains (rheology_cache.h)
   const double pressure = a.pressure > 0 ? a.pressure : c.continuum_pressure();
   const std::string cached = rheology_cache_path(c, pressure);
@@ -42,7 +56,7 @@ int cmd_calibrate(const CalibrateArgs& a) {
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(cached).parent_path(), ec);
     try {
-      cache_rheology(cached, cal.law);
+      cache_rheology(cached, law);
     } catch (const RunError& e) {  // the cache is an optimisation: say so, keep the result
       fmt::print("calibrate: not cached ({})\n", e.what());
     }

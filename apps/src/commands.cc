@@ -312,6 +312,10 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& cal) {
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   calibrate->add_flag("--quiet", cal.quiet, "no line per point");
+  calibrate->add_option("--wall", cal.wall_runs,
+                        "DEM results of the case (folders or dem.h5, with the slip histogram): "
+                        "fit the grains' wall law into the file's [wall] table "
+                        "(continuum.wall_law = \"measured\" or \"measured_slip\")");
   return calibrate;
 }
 

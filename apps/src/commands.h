@@ -18,6 +18,9 @@ struct CalibrateArgs {
   double strain_scale = 1;
   int threads = 1;
   bool quiet = false;
+  /// DEM results (folders or dem.h5) of the case whose wall law is fitted into the file's
+  /// [wall] table (scripts/fit_wall.py); empty: no [wall]
+  std::vector<std::string> wall_runs;
 };
 
 /// `grainlift calibrate` (calibrate_command.cc); exit code.

@@ -180,3 +180,76 @@ def slip_at(theta, theta_lo, theta_hi, slip_velocity):
     interpolated linearly between bin centres, periodic in theta."""
     c = 0.5 * (np.asarray(theta_lo, float) + np.asarray(theta_hi, float))
     return np.interp(wrap(theta), c, np.asarray(slip_velocity, float), period=2 * np.pi)
+
+
+def measured_points(results, threshold=THRESHOLD):
+    """(|v_s|, ratio, error) at every loaded angle of the DEM results (grainlift.io.Result)
+    that recorded the slip velocity: v_s (m/s) the measured slip at that angle (slip_at),
+    ratio = |sigma_t| / sigma_n with its error from the per-angle block errors; None when no
+    result has /histogram/slip_velocity."""
+    vs, ys, es = [], [], []
+    for r in results:
+        if "histogram/slip_velocity" not in r:
+            continue
+        th, sn, st = r["surface/theta"], r["surface/sigma_n"], r["surface/sigma_t"]
+        en, et = r["surface/sigma_n_stderr"], r["surface/sigma_t_stderr"]
+        s = loaded(sn, threshold)
+        h = r["histogram"]
+        vs.append(np.abs(slip_at(th[s], h["theta_lo"], h["theta_hi"], h["slip_velocity"])))
+        ys.append(np.abs(st[s]) / sn[s])
+        es.append(np.hypot(et[s], ys[-1] * en[s]) / sn[s])
+    if not vs:
+        return None
+    return np.concatenate(vs), np.concatenate(ys), np.concatenate(es)
+
+
+WallFit = namedtuple("WallFit", "law friction friction_err runs")
+WallFit.__doc__ = """The wall law of several DEM runs (fit): the slip law (SlipLaw) on the
+measured slip at every loaded angle, and the effective constant friction, the pooled mean
+(grainlift.stats.pooled_mean) of the runs' wall_friction; runs: how many had the slip."""
+
+
+def fit(results, threshold=THRESHOLD):
+    """The WallFit of the DEM results that recorded /histogram/slip_velocity; raises
+    ValueError when none did (runs of grainlift before the slip histogram)."""
+    from grainlift import stats  # the same pooling rule as every grainlift statistic
+    pts = measured_points(results, threshold)
+    if pts is None:
+        raise ValueError("no run has /histogram/slip_velocity (rerun the DEM with this grainlift)")
+    used = [r for r in results if "histogram/slip_velocity" in r]
+    ws = [wall_friction(r["surface/theta"], r["surface/sigma_n"], r["surface/sigma_t"],
+                        r["surface/sigma_n_stderr"], r["surface/sigma_t_stderr"], threshold)
+          for r in used]
+    p = stats.pooled_mean([w.mu for w in ws], [w.error for w in ws])
+    return WallFit(slip_law(*pts), p.mean, p.error, len(used))
+
+
+def table_problem(f):
+    """Why the WallFit @p f cannot be a [wall] table (the ranges read_rheology_file accepts:
+    friction, mu_a, mu_b >= 0, v0 > 0, finite errors >= 0, points >= 4), or ""."""
+    law = f.law
+    for name, value, ok in (("friction", f.friction, f.friction >= 0),
+                            ("friction_err", f.friction_err, f.friction_err >= 0),
+                            ("mu_a", law.mu_a, law.mu_a >= 0), ("mu_b", law.mu_b, law.mu_b >= 0),
+                            ("v0", law.v0, law.v0 > 0), ("mu_a_err", law.mu_a_err,
+                                                         law.mu_a_err >= 0),
+                            ("mu_b_err", law.mu_b_err, law.mu_b_err >= 0),
+                            ("v0_err", law.v0_err, law.v0_err >= 0),
+                            ("points", law.points, law.points >= 4)):
+        if not (np.isfinite(value) and ok):
+            return f"{name} = {value:.4g} is outside what a [wall] table accepts"
+    return ""
+
+
+def with_wall_table(text, table):
+    """The rheology file's @p text with its [wall] table (and the comments just above it)
+    replaced by @p table (wall_table's), or @p table appended."""
+    lines = text.rstrip("\n").split("\n")
+    if "[wall]" in lines:
+        i = lines.index("[wall]")
+        end = next((k for k in range(i + 1, len(lines)) if lines[k].startswith("[")),
+                   len(lines))
+        while i > 0 and lines[i - 1].startswith("#"):
+            i -= 1
+        lines = lines[:i] + lines[end:]
+    return "\n".join(lines).rstrip("\n") + "\n" + table

@@ -164,53 +164,25 @@ def print_slip_law(rows, threshold):
               f"{np.mean(yb - fit):+.3f}, rms {np.sqrt(np.mean((yb - fit) ** 2)):.3f}")
 
 
-def measured_points(rows, threshold):
-    """(|v_s|, ratio, error) at every loaded angle of the runs that recorded the slip
-    velocity: v_s (m/s) the measured slip at that angle (wall.slip_at), ratio = |sigma_t| /
-    sigma_n with its error from the per-angle block errors."""
-    vs, ys, es = [], [], []
-    for x in rows:
-        r = x["dem"]
-        if "histogram/slip_velocity" not in r:
-            continue
-        th, sn, st, en, et = surface(r)
-        s = wall.loaded(sn, threshold)
-        h = r["histogram"]
-        vs.append(np.abs(wall.slip_at(th[s], h["theta_lo"], h["theta_hi"],
-                                      h["slip_velocity"])))
-        ys.append(np.abs(st[s]) / sn[s])
-        es.append(np.hypot(et[s], ys[-1] * en[s]) / sn[s])
-    if not vs:
-        return None
-    return np.concatenate(vs), np.concatenate(ys), np.concatenate(es)
-
-
 def write_wall(path, rows, threshold):
-    """Fits the slip law on the measured slip, pools mu_w, and writes the [wall] table of
-    the rheology file @p path (replacing its [wall], which the writers put last)."""
-    pts = measured_points(rows, threshold)
-    if pts is None:
-        sys.exit("--write-wall: no run has /histogram/slip_velocity (rerun the DEM)")
-    law = wall.slip_law(*pts)
-    used = [x for x in rows if "histogram/slip_velocity" in x["dem"]]
-    p = pooled_mean([x["w"].mu for x in used], [x["w"].error for x in used])
-    print(f"\nslip law on the measured slip ({law.points} angles of {len(used)} runs): "
+    """Fits the wall law of the runs (grainlift.wall.fit) and writes the [wall] table of the
+    rheology file @p path (replacing its [wall])."""
+    try:
+        f = wall.fit([x["dem"] for x in rows], threshold)
+    except ValueError as e:
+        sys.exit(f"--write-wall: {e}")
+    law = f.law
+    print(f"\nslip law on the measured slip ({law.points} angles of {f.runs} runs): "
           f"mu_a = {law.mu_a:.3f} +- {law.mu_a_err:.3f}, mu_b = {law.mu_b:.3f} +- "
           f"{law.mu_b_err:.3f}, v0 = {law.v0:.4f} +- {law.v0_err:.4f} m/s, chi2/dof = "
-          f"{law.chi2_per_dof:.2f}; friction (pooled mu_w) {p.mean:.3f} +- {p.error:.3f}")
-    with open(path) as f:
-        lines = f.read().rstrip("\n").split("\n")
-    if "[wall]" in lines:  # drop the old table and the comments just above it
-        i = lines.index("[wall]")
-        end = next((k for k in range(i + 1, len(lines)) if lines[k].startswith("[")),
-                   len(lines))
-        while i > 0 and lines[i - 1].startswith("#"):
-            i -= 1
-        lines = lines[:i] + lines[end:]
-    text = "\n".join(lines).rstrip("\n")
-    src = f"studies/wall_law/wall_law.py: {len(used)} runs, threshold {threshold}"
-    with open(path, "w") as f:
-        f.write(text + "\n" + wall.wall_table(law, p.mean, p.error, src))
+          f"{law.chi2_per_dof:.2f}; friction (pooled mu_w) {f.friction:.3f} +- "
+          f"{f.friction_err:.3f}")
+    with open(path) as fh:
+        text = fh.read()
+    src = f"studies/wall_law/wall_law.py: {f.runs} runs, threshold {threshold}"
+    with open(path, "w") as fh:
+        fh.write(wall.with_wall_table(text, wall.wall_table(law, f.friction, f.friction_err,
+                                                             src)))
     print(f"wrote the [wall] table of {path}")
 
 

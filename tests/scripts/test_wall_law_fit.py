@@ -140,5 +140,57 @@ class SlipLawFit(unittest.TestCase):
         self.assertEqual(t["points"], 150)
 
 
+class FitFromRuns(unittest.TestCase):
+    """wall.fit on DEM-like results (the fields grainlift.io gives: surface stresses with
+    their errors, a 32-bin /histogram with slip_velocity), four spin ratios, a wall that obeys
+    mu_w(v) = 0.03 + 0.30 |v| / (|v| + 0.08 m/s) at the bins' slip, noise 0.02 P0 on sigma_t:
+    the slip law comes back within 4 of its errors, the pooled friction is the sigma_n-weighted
+    mean ratio of the runs within 3 errors; a result without the slip histogram is skipped,
+    none raises ValueError; with_wall_table replaces an old [wall] and its comment."""
+
+    @staticmethod
+    def result(spin_ratio, rng):
+        V = 0.5
+        edges = np.linspace(-np.pi, np.pi, 33)
+        centre = 0.5 * (edges[:-1] + edges[1:])
+        slip = V * (spin_ratio - np.sin(centre))  # m/s at the bins
+        th = np.angle(np.exp(1j * THETA))
+        v = np.abs(np.interp(th, centre, slip, period=2 * np.pi))
+        mu = 0.03 + 0.30 * v / (v + 0.08)
+        sn = P0 * np.maximum(0.0, 1 + 3 * np.cos(THETA))
+        st = -mu * sn + rng.normal(0, 0.02 * P0, M)
+        return {"surface/theta": THETA, "surface/sigma_n": sn, "surface/sigma_t": st,
+                "surface/sigma_n_stderr": np.full(M, 1e-9 * P0),
+                "surface/sigma_t_stderr": np.full(M, 0.02 * P0),
+                "histogram/slip_velocity": slip,
+                "histogram": {"theta_lo": edges[:-1], "theta_hi": edges[1:],
+                              "slip_velocity": slip}}
+
+    def test_recovers_the_law_of_several_runs(self):
+        rng = np.random.default_rng(7)
+        runs = [self.result(om, rng) for om in (0.0, 1.0, 2.0, 4.0)]
+        no_slip = {k: v for k, v in runs[0].items() if k != "histogram/slip_velocity"}
+        f = wall.fit(runs + [no_slip])
+        self.assertEqual(f.runs, 4)
+        law = f.law
+        for got, err, want in ((law.mu_a, law.mu_a_err, 0.03), (law.mu_b, law.mu_b_err, 0.33),
+                               (law.v0, law.v0_err, 0.08)):
+            self.assertLess(abs(got - want), 4 * err, (got, err, want))
+        ws = [wall.wall_friction(r["surface/theta"], r["surface/sigma_n"],
+                                 r["surface/sigma_t"]).mu for r in runs]
+        self.assertLess(abs(f.friction - np.mean(ws)), 3 * f.friction_err)
+        self.assertEqual(wall.table_problem(f), "")
+        with self.assertRaises(ValueError):
+            wall.fit([no_slip])
+
+    def test_with_wall_table_replaces_the_old_one(self):
+        text = "[mu_i]\nmu_s = 0.3\n\n# old source\n[wall]\nfriction = 9\n"
+        out = wall.with_wall_table(text, "\n# new\n[wall]\nfriction = 0.2\n")
+        self.assertNotIn("friction = 9", out)
+        self.assertNotIn("old source", out)
+        self.assertEqual(out.count("[wall]"), 1)
+        self.assertIn("mu_s = 0.3", out)
+
+
 if __name__ == "__main__":
     unittest.main()

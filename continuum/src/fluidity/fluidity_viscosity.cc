@@ -26,7 +26,8 @@ void FluidityViscosity::fill_fields(const FEValues<2>& fev, RheologyInputs& in) 
   in.fluidity.assign(quad.size(), 0.0);
   for (unsigned int q = 0; q < quad.size(); ++q) {
     double v = 0;
-    for (unsigned int i = 0; i < dofs.size(); ++i) v += g_(dofs[i]) * fe.shape_value(i, quad.point(q));
+    for (unsigned int i = 0; i < dofs.size(); ++i)
+      v += g_(dofs[i]) * fe.shape_value(i, quad.point(q));
     in.fluidity[q] = std::max(v, g_min_);
   }
 }

@@ -166,7 +166,8 @@ void CylinderProblem::solve_nonlocal_fluidity() {
       update_values | update_gradients);
   qr = std::make_unique<QuadratureRheology>(fluidity_->quadrature().size());
   fluidity_g_.reinit(fluidity_->dof_handler().n_dofs());
-  fluidity_viscosity_ = std::make_unique<FluidityViscosity>(r, fluidity_->dof_handler(), fluidity_g_);
+  fluidity_viscosity_ =
+      std::make_unique<FluidityViscosity>(r, fluidity_->dof_handler(), fluidity_g_);
 
   // the mixing works on log g (g spans decades and must stay positive); g_min the floor of
   // FluidityViscosity
