@@ -4,10 +4,14 @@
 # 0, 2, 4, local and nonlocal_fluidity at A = 0.25, 0.5, 1 (the splitting stopped when the
 # forces move by less than 1% in two iterations running). The DEM's numbers are those of
 # docs/crosscheck.md (same case, same boxes). Prints one table row per run.
-#   studies/nonlocal/nonlocal_study.sh [OUT_DIR]   (default runs/nonlocal; ~15 min on one core)
+#   studies/nonlocal/nonlocal_study.sh [OUT_DIR] [boxes|depth|all]
+#     (default runs/nonlocal, all; boxes ~25 min, depth ~10 min on one core)
+# depth: the heavy-lid scenes of the depth sweep at h = 4, 8, 12 D (studies/depth, its box with
+# 6 D of bed below), local and A = 0.5.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 O=${1:-runs/nonlocal}
+PART=${2:-all}
 G=$(realpath "${GRAINLIFT:-build/bin/grainlift}")
 CASE=cases/demo/demo.toml
 BIG=(--set 'domain.x_range=[-0.8,0.8]' --set 'domain.y_range=[-0.48,0.48]')
@@ -34,6 +38,18 @@ PY
 }
 echo "| run | drag (N/m) | lift (N/m) | torque (N) | splitting iterations | wall (s) |"
 echo "|---|---|---|---|---|---|"
+if [[ $PART == depth || $PART == all ]]; then
+  CASE=cases/guillard2014/depth_sweep.toml
+  for h in 4 8 12; do
+    depth=$(awk -v h=$h 'BEGIN { printf "%.6g", h * 0.015 }')
+    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth")
+    run "depth_h${h}_local" "${d6[@]}"
+    run "depth_h${h}_A0.5" "${d6[@]}" --set 'continuum.model="nonlocal_fluidity"' \
+      --set continuum.nonlocal_amplitude=0.5 --set continuum.nonlocal_tolerance=0.01
+  done
+  CASE=cases/demo/demo.toml
+fi
+[[ $PART == boxes || $PART == all ]] || exit 0
 for box in demo big; do
   extra=()
   [[ $box == big ]] && extra=("${BIG[@]}")
