@@ -28,16 +28,22 @@ import sys
 sys.path.insert(0, "python")
 from grainlift import io
 r = io.read(sys.argv[1], "fem")
-m, d = r.attrs("means"), r.attrs("diagnostics")
+m, d, dv = r.attrs("means"), r.attrs("diagnostics"), r.attrs("derived")
 it = d.get("nonlocal_iterations", "-")
 if it != "-":
     it = f"{it} (last change {100 * d['nonlocal_force_change']:.2g}%)"
-print(f"| {sys.argv[2]} | {m['drag']:.1f} | {m['lift']:.1f} | {m['torque']:.2f} | {it} | "
-      f"{r.wall_seconds:.0f} |")
+def g(v, digits=4, scale=None):  # "-" when absent, 0 below 1e-9 of the scale (symmetry)
+    if v is None:
+        return "-"
+    return "0" if scale and abs(v) < 1e-9 * scale else f"{v:.{digits}g}"
+D = abs(m["drag"])
+print(f"| {sys.argv[2]} | {g(m['drag'])} | {g(m['lift'], scale=D)} | "
+      f"{g(m['torque'], scale=D * 0.05)} | {g(dv.get('drag_coefficient'), 3)} | "
+      f"{g(dv.get('lift_over_buoyancy'), 3)} | {it} | {r.wall_seconds:.0f} |")
 PY
 }
-echo "| run | drag (N/m) | lift (N/m) | torque (N) | splitting iterations | wall (s) |"
-echo "|---|---|---|---|---|---|"
+echo "| run | drag (N/m) | lift (N/m) | torque (N) | C_d | L/B | splitting iterations | wall (s) |"
+echo "|---|---|---|---|---|---|---|---|"
 if [[ $PART == depth || $PART == all ]]; then
   CASE=cases/guillard2014/depth_sweep.toml
   for h in 4 8 12; do
