@@ -18,6 +18,7 @@
 #include "bench_beds.h"
 #include "grainlift/dem/system/dem_system.h"
 #include "grainlift/dem/bed/packing.h"
+#include "grainlift/dem/step/vector_kernels.h"
 
 namespace gd = grainlift::dem;
 
@@ -79,6 +80,8 @@ void BM_JammedBed(benchmark::State& state) { run_bed(state, 0.86); }
 // the same bed); unset, each benchmark runs for at least 3 s (the intruder then ploughs
 // further and the dense bed gathers more contacts the faster the code is).
 int main(int argc, char** argv) {
+  // the vector target of the step (GRAINLIFT_SIMD chooses), in the benchmark's context lines
+  benchmark::AddCustomContext("grainlift_simd", grainlift::dem::simd_target());
   const char* steps = std::getenv("GRAINLIFT_BENCH_STEPS");
   const long iterations = steps ? std::max(1L, std::atol(steps) / 100) : 0;
   struct {

@@ -10,6 +10,9 @@
 #include <new>
 
 #include "grainlift/shared/results/atomic_file.h"
+#ifdef GRAINLIFT_HAVE_DEM
+#include "grainlift/dem/step/vector_kernels.h"
+#endif
 #include "grainlift/shared/case/case_keys.h"
 #include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/results/compare.h"
@@ -365,6 +368,17 @@ int cmd_keys(bool markdown) {
   return exit_success;
 }
 
+/// `grainlift --version`: the version, the revision and the DEM's SIMD target.
+std::string version_text() {
+  std::string v = grainlift_version() + " (" + grainlift_git_revision() + ")";
+#ifdef GRAINLIFT_HAVE_DEM
+  v += "\nDEM SIMD: " + dem::simd_target() + " (this build and CPU: " + dem::simd_targets() +
+       "; GRAINLIFT_SIMD chooses one)";
+  if (const std::string why = dem::simd_setting_error(); !why.empty()) v += "\n" + why;
+#endif
+  return v;
+}
+
 }  // namespace
 
 int main_with_args(int argc, char** argv) {
@@ -372,7 +386,7 @@ int main_with_args(int argc, char** argv) {
                "medium, by DEM and by a mu(I) continuum, from one case file.\n"
                "Exit codes: 0 success, 1 a run that failed, 2 bad input."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", grainlift_version() + " (" + grainlift_git_revision() + ")");
+  app.set_version_flag("--version", version_text());
 
   RunArgs run_args;
   auto* run = app.add_subcommand("run", "run a case with one or both solvers");

@@ -22,6 +22,7 @@
 #include "grainlift/dem/dem_output.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/scenes/simulation.h"
+#include "grainlift/dem/step/vector_kernels.h"
 #include "grainlift/shared/case/case_geometry.h"
 #include "grainlift/shared/results/atomic_file.h"
 #include "grainlift/shared/errors.h"
@@ -293,6 +294,7 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     std::filesystem::remove(checkpoint_path(*opt), ignored);
   }
   RunResult r = dem_result(c, out);
+  r.diagnostics.texts["simd"] = simd_target();  // the step's loops: avx512 or scalar
   add_run_notes(c, cfg, out, target, progress, tag, checkpoints, r);
   return r;
 }
@@ -365,6 +367,8 @@ SolverEntry solver_entry() {
   e.name = "dem";
   e.description = "discrete element method, 2D frictional disks (Kumar 2019 contact law)";
   e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
+    // a SIMD target asked for and not available: the run's bits would not be those asked for
+    if (const std::string why = simd_setting_error(); !why.empty()) throw RunError(why);
     if (opt.replicas > 1) {
       if (opt.resume) {
         throw InputError("--resume continues a single run: --replicas > 1 writes no checkpoints");

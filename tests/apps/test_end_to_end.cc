@@ -349,3 +349,41 @@ packing_cache = ""
   EXPECT_LT(f.I_max, 0.4) << out;
   fs::remove_all(dir);
 }
+
+// GRAINLIFT_SIMD chooses the DEM's vector target: every target this build and CPU run
+// (scalar always, avx512 where the CPU has AVX-512F) gives the same forces bit for bit (the
+// step's contract), and summary.json and /diagnostics name the one used; a target that is not
+// there (avx2 has no kernels yet) refuses the run with exit 1 and the targets there are.
+TEST(EndToEnd, EverySimdTargetGivesTheSameBitsAndIsNamed) {
+  const fs::path d = scratch();
+  std::ofstream(d / "tiny.toml") << tiny_case;
+  const std::string runs = "run " + (d / "tiny.toml").string() + " --solver dem --quiet --out ";
+  std::string out;
+  ASSERT_EQ(run("--version", &out), 0) << out;
+  const bool avx512 = out.find("scalar, avx512") != std::string::npos;
+  std::vector<std::string> targets = {"scalar"};
+  if (avx512) targets.push_back("avx512");
+  std::vector<double> reference;
+  for (const std::string& t : targets) {
+    const fs::path o = d / ("simd_" + t);
+    const auto ran = test_support::run_command("env GRAINLIFT_SIMD=" + t + " " +
+                                               std::string(GRAINLIFT_BINARY) + " " + runs +
+                                               o.string());
+    ASSERT_EQ(ran.code, 0) << ran.output;
+    const RunResult r = read_result((o / "dem.h5").string());
+    EXPECT_EQ(r.diagnostics.texts.at("simd"), t);
+    std::ifstream js(o / "summary.json");
+    const std::string json((std::istreambuf_iterator<char>(js)), {});
+    EXPECT_NE(json.find("\"simd\": \"" + t + "\""), std::string::npos) << json;
+    if (reference.empty()) reference = r.forces->fx;
+    else EXPECT_EQ(r.forces->fx, reference) << t << " against scalar";
+  }
+  const auto refused = test_support::run_command("env GRAINLIFT_SIMD=avx2 " +
+                                                  std::string(GRAINLIFT_BINARY) + " " + runs +
+                                                  (d / "simd_avx2").string());
+  EXPECT_EQ(refused.code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("GRAINLIFT_SIMD=avx2: the DEM's vector targets here are scalar"),
+            std::string::npos)
+      << refused.output;
+  fs::remove_all(d);
+}

@@ -3,11 +3,11 @@
 #include "step/step_kernels.h"
 
 #include <atomic>
-#include "grainlift/dem/step/vector_kernels.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "grainlift/dem/step/vector_kernels.h"
 
@@ -295,11 +295,18 @@ std::atomic<bool> g_vector_allowed{true};
 
 bool avx512_enabled() {
 #ifdef GRAINLIFT_AVX512
-  static const bool cpu = kHaveAvx512 && !std::getenv("GRAINLIFT_NO_SIMD");
+  static const bool cpu = kHaveAvx512 && grainlift::dem::simd_setting_error().empty() &&
+                          requested_simd() != "scalar";
   return cpu && g_vector_allowed.load(std::memory_order_relaxed);
 #else
   return false;
 #endif
+}
+
+std::string requested_simd() {
+  if (std::getenv("GRAINLIFT_NO_SIMD")) return "scalar";  // the older switch
+  const char* s = std::getenv("GRAINLIFT_SIMD");
+  return s && *s ? std::string(s) : std::string("auto");
 }
 
 }  // namespace grainlift::dem::detail
@@ -307,6 +314,27 @@ bool avx512_enabled() {
 namespace grainlift::dem {
 void set_vector_kernels(bool on) { detail::g_vector_allowed.store(on, std::memory_order_relaxed); }
 bool vector_kernels() { return detail::avx512_enabled(); }
+
+std::string simd_target() { return detail::avx512_enabled() ? "avx512" : "scalar"; }
+
+std::string simd_targets() {
+#ifdef GRAINLIFT_AVX512
+  return detail::kHaveAvx512 ? "scalar, avx512"
+                              : "scalar (avx512 is built; this CPU lacks AVX-512F)";
+#else
+  return "scalar";
+#endif
+}
+
+std::string simd_setting_error() {
+  const std::string want = detail::requested_simd();
+  if (want == "auto" || want == "scalar") return {};
+#ifdef GRAINLIFT_AVX512
+  if (want == "avx512" && detail::kHaveAvx512) return {};
+#endif
+  return "GRAINLIFT_SIMD=" + want + ": the DEM's vector targets here are " + simd_targets() +
+         "; unset it (the best the CPU runs) or name one of them";
+}
 }  // namespace grainlift::dem
 
 namespace grainlift::dem::detail {

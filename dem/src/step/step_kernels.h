@@ -4,6 +4,8 @@
 // order (this file is compiled without floating-point contraction): the same bits.
 #pragma once
 
+#include <string>
+
 #include <cstddef>
 #include <cstdint>
 
@@ -64,7 +66,12 @@ struct PlainKick {
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2);
 
 /// @brief Whether the vector loops run (kick_plain, contact_force_batch): the CPU has
-/// AVX-512F and the environment variable GRAINLIFT_NO_SIMD is not set (checked once).
+/// AVX-512F and the environment does not ask for another target (GRAINLIFT_SIMD=scalar, or
+/// the older GRAINLIFT_NO_SIMD; checked once), and set_vector_kernels(false) was not called.
 bool avx512_enabled();
+
+/// @brief The target the environment asks for: GRAINLIFT_SIMD's value, "scalar" when
+/// GRAINLIFT_NO_SIMD is set, "auto" when neither is.
+std::string requested_simd();
 
 }  // namespace grainlift::dem::detail

@@ -81,6 +81,8 @@ JsonObject summary_object(const RunResult& r) {
   o.add("pressure_scale", r.geometry.pressure_scale);
   o.add("wall_seconds", r.meta.wall_seconds);
   o.add("threads", r.meta.threads);
+  if (const auto it = r.diagnostics.texts.find("simd"); it != r.diagnostics.texts.end())
+    o.add("simd", it->second);  // the DEM's vector target (avx512 or scalar)
   o.add("case_hash", r.meta.case_hash);
   if (r.meta.partial) o.add("partial", true);
   if (!r.meta.notes.empty()) o.add("notes", r.meta.notes);
