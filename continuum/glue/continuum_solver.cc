@@ -105,6 +105,7 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   f.model = choice<ContinuumModel>(c.continuum.model,
                                    {{"local", ContinuumModel::local},
                                     {"nonlocal_fluidity", ContinuumModel::nonlocal_fluidity}});
+  f.target_error = c.continuum.target_error;
   f.nonlocal.amplitude = c.continuum.nonlocal_amplitude;
   f.nonlocal.max_iterations = c.continuum.nonlocal_iterations;
   f.nonlocal.relaxation = c.continuum.nonlocal_relaxation;
@@ -266,6 +267,12 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
     d.counts["nonlocal_iterations"] = out.nonlocal_iterations;
     d.values["nonlocal_change"] = out.nonlocal_change;
     d.values["nonlocal_force_change"] = out.nonlocal_force_change;
+  }
+  if (cfg.target_error > 0) {  // absent otherwise
+    d.values["target_error"] = cfg.target_error;
+    d.values["estimated_error"] = out.estimated_error;
+    d.counts["target_met"] = out.target_met ? 1 : 0;
+    d.counts["stopped_at_refinement"] = out.levels.empty() ? 0 : out.levels.back().refinement;
   }
   if (coarser) add_mesh_error(m, *coarser, d);
   if (!out.levels.empty()) add_level_series(c, out, d);

@@ -90,6 +90,12 @@ void validate_config(const ContinuumConfig& c) {
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");
   require(c.picard_iterations >= 0, "picard_iterations must be >= 0");
   for (const double t : c.surface_theta) require(finite(t), "surface_theta values must be finite");
+  require(finite(c.target_error) && c.target_error >= 0 && c.target_error < 1,
+          "target_error must be in [0, 1)");
+  if (c.target_error > 0)
+    require(c.nested && c.adaptive_cycles == 0,
+            "target_error stops the nested levels: it needs continuum.nested = true and no "
+            "adaptive cycles");
   if (c.model == ContinuumModel::nonlocal_fluidity) {
     const NonlocalParams& n = c.nonlocal;
     require(finite(n.amplitude) && n.amplitude > 0, "nonlocal amplitude A must be > 0");

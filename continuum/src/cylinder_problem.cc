@@ -63,6 +63,7 @@ ContinuumOutput CylinderProblem::run() {
     level_start = std::chrono::steady_clock::now();
     solve_next_level(level);
     record_level(level, level_start);
+    if (target_met(level)) break;
   }
   for (int cycle = 0; cycle < config_.adaptive_cycles && problem_->report().converged; ++cycle) {
     if (stop()) break;

@@ -66,6 +66,10 @@ class CylinderProblem {
   void sample_fields();
   void output_results() const;
   void hand_out_converged_level();
+  /// With ContinuumConfig::target_error: the estimated error of nested level @p level (its
+  /// forces against the level below, in out_.estimated_error) and whether it meets the target
+  /// (levels >= 2 only; cylinder_refinement.cc).
+  bool target_met(int level);
   /// The nonlocal fluidity model from the converged local state: fluidity and flow solved in
   /// turn until g settles (fluidity/nonlocal_coupling.cc).
   void solve_nonlocal_fluidity();

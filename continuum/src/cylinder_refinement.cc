@@ -13,6 +13,7 @@
 #include <deal.II/numerics/solution_transfer.h>
 
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include "fault_injection.h"
@@ -120,7 +121,8 @@ void CylinderProblem::record_level(int level,
   steps_recorded_ = steps;
   // the requested level without adaptive cycles: its forces come from run() (no second
   // post-processing of the same state)
-  if (lr.converged && (level < config_.refinement || config_.adaptive_cycles > 0)) {
+  if (lr.converged && (level < config_.refinement || config_.adaptive_cycles > 0 ||
+                       config_.target_error > 0)) {
     if (linearised_) correct_for_gravity();
     compute_boundary_outputs();
     lr.fx = out_.fx;
@@ -129,6 +131,29 @@ void CylinderProblem::record_level(int level,
   }
   lr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   out_.levels.push_back(lr);
+}
+
+bool CylinderProblem::target_met(int level) {
+  const std::size_t n = out_.levels.size();
+  if (!(config_.target_error > 0) || n < 3 || !problem_->report().converged) return false;
+  // the changes of the force between the last three levels, and their ratio r
+  auto change = [&](std::size_t a, std::size_t b) {
+    return std::hypot(out_.levels[a].fx - out_.levels[b].fx,
+                      out_.levels[a].fy - out_.levels[b].fy);
+  };
+  const double d_fine = change(n - 1, n - 2), d_coarse = change(n - 2, n - 3);
+  const double F = std::hypot(out_.levels.back().fx, out_.levels.back().fy);
+  const double r = d_coarse > 0 ? d_fine / d_coarse : 0.0;
+  // the change still to come if the changes keep shrinking by r (d r / (1 - r)), never less
+  // than the last change itself; not converging (r >= 1): no estimate
+  out_.estimated_error = r < 1 && F > 0 ? d_fine * std::max(1.0, r / (1 - r)) / F : 1.0;
+  out_.target_met = out_.estimated_error <= config_.target_error;
+  std::ostringstream os;
+  os << "continuum: level " << level << ": estimated force error " << out_.estimated_error
+     << " (change " << d_fine / std::max(F, 1e-300) << ", ratio " << r << "), target "
+     << config_.target_error;
+  say(os.str());
+  return out_.target_met && level < config_.refinement;
 }
 
 void CylinderProblem::schedule_after_refinement() {

@@ -248,6 +248,10 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                       "global refinement level of the mesh (each level quarters the cells; "
                       "with the default barker_gray law the forces converge, see "
                       "docs/results-continuum.md)"));
+  k.push_back(real("continuum.target_error", false, "0", 0, 1, false, true, "-",
+                   "> 0: the nested levels stop at the first level >= 2 whose relative force "
+                   "change from the level below is at or below it (continuum.refinement the "
+                   "finest allowed); 0: every level up to continuum.refinement"));
   k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
                       "adaptive refinement cycles after the first solve: each refines the 30% "
                       "of the cells with the largest Kelly indicator of the velocity (level "

@@ -136,6 +136,12 @@ struct ContinuumConfig {
   /// only (a level where that fails is solved again through the whole continuation from the
   /// far field); false: the whole continuation on the requested mesh.
   bool nested = true;
+  /// > 0: the nested levels stop at the first level L >= 2 whose estimated force error is at or
+  /// below it; `refinement` is then the finest level allowed. The estimate, from the changes
+  /// d_L = |F_L - F_(L-1)| and their ratio r = d_L / d_(L-1): d_L max(1, r / (1 - r)) / |F_L|
+  /// (the changes still to come if they keep shrinking by r, never less than the last one);
+  /// r >= 1: no estimate (1). 0: every level up to `refinement`.
+  double target_error = 0;
   double nonlinear_tolerance = 1e-8;    ///< relative residual
   int max_nonlinear_iterations = 50;
   int picard_iterations = 5;
@@ -213,6 +219,11 @@ struct ContinuumOutput {
   std::string message;                    ///< why it failed when !converged
   /// ContinuumModel::nonlocal_fluidity: splitting iterations run, and the last relative change
   /// of g (|g_k - g_(k-1)| / |g_k|, below NonlocalParams::tolerance when it converged)
+  /// ContinuumConfig::target_error > 0: the estimated relative force error of the level the
+  /// run stopped at (see target_error; -1 when fewer than three levels were solved), and
+  /// whether it met the target
+  double estimated_error = -1;
+  bool target_met = false;
   int nonlocal_iterations = 0;
   double nonlocal_change = 0;
   /// the largest relative change of |F| and |T| in the last iteration; settled: it stayed
