@@ -13,6 +13,8 @@ from collections import namedtuple
 
 import numpy as np
 
+from grainlift import stats  # the pooling rule of every grainlift statistic
+
 #: Angles whose sigma_n is at least this fraction of the largest sigma_n enter mu_w.
 THRESHOLD = 0.5
 
@@ -212,7 +214,6 @@ measured slip at every loaded angle, and the effective constant friction, the po
 def fit(results, threshold=THRESHOLD):
     """The WallFit of the DEM results that recorded /histogram/slip_velocity; raises
     ValueError when none did (runs of grainlift before the slip histogram)."""
-    from grainlift import stats  # the same pooling rule as every grainlift statistic
     pts = measured_points(results, threshold)
     if pts is None:
         raise ValueError("no run has /histogram/slip_velocity (rerun the DEM with this grainlift)")

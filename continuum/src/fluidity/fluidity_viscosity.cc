@@ -20,7 +20,8 @@ void FluidityViscosity::fill_fields(const FEValues<2>& fev, RheologyInputs& in) 
                                                             cell->level(), cell->index(),
                                                             &g_dofs_);
   const auto& fe = g_dofs_.get_fe();
-  std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+  thread_local std::vector<types::global_dof_index> dofs;  // no allocation per cell
+  dofs.resize(fe.n_dofs_per_cell());
   g_cell->get_dof_indices(dofs);
   const Quadrature<2>& quad = fev.get_quadrature();
   in.fluidity.assign(quad.size(), 0.0);

@@ -27,9 +27,9 @@ std::uint64_t fnv1a64(std::string_view text) {
   return h;
 }
 
-/// What is wrong with the cache entry @p path ("" when it is sound): its last line's
-/// checksum against the bytes above it, then its contents as a rheology file.
-std::string cache_entry_fault(const std::string& path) {
+/// The cache entry @p path, read once: its last line's checksum against the bytes above it,
+/// then its contents as a rheology file into @p law; what is wrong with it ("" when sound).
+std::string read_cache_entry(const std::string& path, RheologyFile& law) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream buf;
   buf << in.rdbuf();
@@ -45,7 +45,7 @@ std::string cache_entry_fault(const std::string& path) {
     if (tail.substr(kCacheLine.size(), 16) != want) return "its checksum does not match";
   }
   try {
-    read_rheology_file(path);
+    law = read_rheology_file(path);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -97,7 +97,8 @@ std::string use_cached_rheology(Case& c) {
     return fmt::format("{}no calibration is cached for them at {:g} Pa; `grainlift calibrate "
                        "{}` makes one",
                        jop, p, c.source.path);
-  if (const std::string fault = cache_entry_fault(path); !fault.empty()) {
+  RheologyFile law;
+  if (const std::string fault = read_cache_entry(path, law); !fault.empty()) {
     std::error_code ec;
     std::filesystem::remove(path, ec);
     return fmt::format("warning: the cached calibration {} is damaged ({}): {}; {}the cache "
@@ -105,7 +106,6 @@ std::string use_cached_rheology(Case& c) {
                        path, fault, ec ? "it could not be removed" : "removed", jop, p,
                        ec ? "is skipped" : "is gone", c.source.path);
   }
-  const RheologyFile law = read_rheology_file(path);
   cn.mu_s = law.mu_i.mu_s;
   cn.mu_2 = law.mu_i.mu_2;
   cn.I0 = law.mu_i.I0;
