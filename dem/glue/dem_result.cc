@@ -28,14 +28,15 @@ double travel_run(const Case& c, const DemOutput& out) {
 
 namespace {
 
-/// Block mean of the samples after the steady-state start, and its standard error where the
-/// blocks give one (left unset for no samples).
+/// Block mean of the samples after the steady-state start, and its correlation-corrected
+/// standard error (the one rule of statistics.h) where the blocks give one (left unset for no
+/// samples).
 void steady_mean(const std::vector<double>& steady, int blocks, double& mean,
                  std::optional<double>& stderr_) {
   if (steady.empty()) return;
   const BlockMean b = block_mean(steady, std::size_t(blocks));
   mean = b.mean;
-  if (std::isfinite(b.stderr_)) stderr_ = b.stderr_;
+  if (std::isfinite(b.stderr_corrected)) stderr_ = b.stderr_corrected;
 }
 
 /// The per-angle standard errors of the surface stresses: the profile of each block of the
@@ -65,9 +66,9 @@ void add_surface_stderr(const Case& c, const DemOutput& out, double heading,
   std::vector<double> se_n(M), se_t(M), values(B);
   for (std::size_t m = 0; m < M; ++m) {
     for (std::size_t b = 0; b < B; ++b) values[b] = profiles[b].sigma_n[m];
-    se_n[m] = block_mean(values, B).stderr_;
+    se_n[m] = block_mean(values, B).stderr_corrected;
     for (std::size_t b = 0; b < B; ++b) values[b] = profiles[b].sigma_t[m];
-    se_t[m] = block_mean(values, B).stderr_;
+    se_t[m] = block_mean(values, B).stderr_corrected;
   }
   s.sigma_n_stderr = std::move(se_n);
   s.sigma_t_stderr = std::move(se_t);
@@ -107,7 +108,8 @@ void add_forces_means_and_surface(const Case& c, const DemOutput& out, RunResult
     m.lift = l.mean;
     m.torque = t.mean;
     auto se = [](const BlockMean& b) {
-      return std::isfinite(b.stderr_) ? std::optional<double>(b.stderr_) : std::nullopt;
+      return std::isfinite(b.stderr_corrected) ? std::optional<double>(b.stderr_corrected)
+                                             : std::nullopt;
     };
     m.drag_stderr = se(d);
     m.lift_stderr = se(l);

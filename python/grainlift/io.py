@@ -131,6 +131,22 @@ class Result:
         fx, fy = self["forces/fx"], self["forces/fy"]
         return -(fx * ex + fy * ey), -fx * ey + fy * ex
 
+    def block_errors(self):
+        """{"drag_stderr", "lift_stderr", "torque_stderr"} of a DEM run by the one statistics
+        rule (grainlift.stats.block_mean's correlation-corrected error over the file's
+        averaged samples and blocks), whichever binary wrote the file: a file written since
+        the rule became the DEM's (/means) holds the same numbers; an older one holds the
+        uncorrected block error. Empty for a file without averaged samples (FEM, replicas)."""
+        from grainlift.stats import block_mean
+        m = self.means
+        n, blocks = int(m.get("samples", 0)), int(m.get("blocks", 0))
+        if self.solver != "dem" or n < 2 or blocks < 2 or "forces/fx" not in self:
+            return {}
+        drag, lift = self.drag_lift()
+        series = {"drag": drag, "lift": lift, "torque": self["forces/torque"]}
+        return {k + "_stderr": block_mean(np.asarray(x)[-n:], blocks).stderr_corrected
+                for k, x in series.items()}
+
     def travel(self):
         """The intruder's travel at every force sample, in grain diameters."""
         return (self["forces/time"] * math.hypot(*self.velocity())

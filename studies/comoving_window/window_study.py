@@ -29,9 +29,9 @@ D_GRAIN, HALF_BOX = 0.02, 0.6  # the reduced Kumar cases' grain diameter and hal
 
 
 def block_mean(x, blocks=10):
-    """(mean, block standard error) of x over `blocks` blocks."""
+    """(mean, correlation-corrected block standard error) of x over `blocks` blocks."""
     b = block_rule(x, blocks)
-    return b.mean, b.stderr
+    return b.mean, b.stderr_corrected
 
 
 def run(a, name, seed, extra):

@@ -66,6 +66,7 @@ def read_run(path, window=None):
     f = io.read(path)
     g = f.geometry
     m = f.means
+    errors = f.block_errors() or m  # the one rule, whichever binary wrote the file
     der = f.derived
     r = {
         "D": float(g["intruder_diameter"]),
@@ -79,8 +80,8 @@ def read_run(path, window=None):
         "top": float(g["domain_ymax"]) - float(g["intruder_y"]),
         "drag": float(m["drag"]),
         "lift": float(m["lift"]),
-        "drag_err": float(m.get("drag_stderr", 0.0)),
-        "lift_err": float(m.get("lift_stderr", 0.0)),
+        "drag_err": float(errors.get("drag_stderr", 0.0)),
+        "lift_err": float(errors.get("lift_stderr", 0.0)),
         "B": float(der.get("buoyancy", float("nan"))),
         "Cd": float(der.get("drag_coefficient", float("nan"))),
         "wall_s": float(f["metadata"].attrs["wall_seconds"]),

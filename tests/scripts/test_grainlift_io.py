@@ -7,8 +7,9 @@ rad/s on the command line) gives a dem.h5, a fem.h5 and summary.json. Expected, 
 - io.read finds dem.h5 in the folder (fem.h5 when asked) and decodes strings;
 - the drag and lift io derives from /forces (along -V and V turned +90 degrees), averaged from
   /diagnostics steady_start_sample by grainlift.stats.block_mean with /means blocks, are the
-  C++'s /means drag, lift and their standard errors, to 1e-9 relative: the Python reader and
-  rule see what the C++ wrote;
+  C++'s /means drag, lift and their standard errors (the correlation-corrected error, the one
+  rule), to 1e-9 relative, and so are Result.block_errors(): the Python reader and rule see
+  what the C++ wrote;
 - Result.case() applies the run's --set overrides: intruder.omega is 10, as /geometry omega;
 - the intruder's travel at the last sample is the case's dem.travel (6 d) to 1%;
 - a field is a (ny, nx) array on the /fields x, y grid; summary.json's dem drag is /means drag;
@@ -67,8 +68,12 @@ class ReadsWhatTheCommandWrote(unittest.TestCase):
             b = stats.block_mean(series[first:], blocks)
             self.assertEqual(b.samples, int(r.means["samples"]))
             self.assertAlmostEqual(b.mean / r.means[name], 1.0, delta=1e-9, msg=name)
-            self.assertAlmostEqual(b.stderr / r.means[name + "_stderr"], 1.0, delta=1e-9,
-                                   msg=name)
+            # one statistics rule: the stored error is the correlation-corrected one
+            self.assertAlmostEqual(b.stderr_corrected / r.means[name + "_stderr"], 1.0,
+                                   delta=1e-9, msg=name)
+        for name, error in r.block_errors().items():
+            self.assertAlmostEqual(error / r.means[name], 1.0, delta=1e-9, msg=name)
+        self.assertEqual(len(r.block_errors()), 3)
         self.assertGreater(r.means["drag"], 0.0)  # the medium resists the motion
 
     def test_case_carries_the_overrides(self):
