@@ -13,6 +13,8 @@ Drawn in grainlift's frame: the intruder moves along +x, so the grains flow from
 as in the paper's figure, and omega > 0 is COUNTER-clockwise. Kumar's Fig. 7 spins clockwise,
 so with --mirror the fields are reflected y -> -y (v_y -> -v_y) to be drawn as the paper draws.
 The printed descriptors are always in grainlift's (unmirrored) frame.
+The printed L/D's error is the one statistics rule's (grainlift.io Result.block_errors(): the
+correlation-corrected block error of each run's forces), whichever binary wrote the runs.
 
 Sides (the paper's definition, Sec. III D: "the retreating side of the intruder (the side whose
 surface moves against the flow)"). In the intruder frame the grains come at the intruder along
@@ -93,6 +95,7 @@ def load_one(run_dir):
     V = np.array([geo["velocity_x"], geo["velocity_y"]], float)
     omega = float(geo["omega"])
     means = dict(f.means)
+    means.update(f.block_errors())  # the errors by the one statistics rule, whatever wrote it
     r["wall_seconds"] = f.wall_seconds
     V0 = float(np.hypot(*V))
     if abs(V[1]) > 1e-12 * V0 or V[0] <= 0:

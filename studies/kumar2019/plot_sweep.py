@@ -8,10 +8,14 @@
   plot_sweep.py drag-omega OUT.png CSV[:LABEL] ...   drag against spin ratio Omega
 A table of `--solver both` gives one series per solver; CSV#dem or CSV#fem keeps one solver's
 rows.
-Error bars are the block-average standard errors (propagated for ratios). Tables given the
-same LABEL (independent seeds) are pooled by grainlift.stats.pooled_mean (ld-omega also prints
-each bed's L/D and the spread across beds). Prints the table it plots, so the numbers can go
-into docs/."""
+Error bars are the block-average standard errors (propagated for ratios) by the one statistics
+rule: each DEM row's drag, lift and torque errors are recomputed from its run's dem.h5 (the
+row's run_dir, or the folder of that name beside the CSV) by grainlift.io's
+Result.block_errors(), the correlation-corrected block error, since a sweep.csv written before
+fa2750a holds the uncorrected one; a row whose dem.h5 is missing keeps the CSV's errors, with a
+warning. Tables given the same LABEL (independent seeds) are pooled by
+grainlift.stats.pooled_mean (ld-omega also prints each bed's L/D and the spread across beds).
+Prints the table it plots, so the numbers can go into docs/."""
 import math
 import os
 import sys
@@ -28,11 +32,37 @@ def first_number(text):
     return float(text.split(",")[0])
 
 
+def dem_h5(csv_path, row):
+    """The dem.h5 of a sweep row: in its run_dir (relative to the working folder, as the sweep
+    wrote it), else in the folder of that name beside the CSV (a moved or copied sweep)."""
+    run_dir = row.get("run_dir") or ""
+    for d in (run_dir, os.path.join(os.path.dirname(csv_path), os.path.basename(run_dir))):
+        if d and os.path.isfile(os.path.join(d, "dem.h5")):
+            return os.path.join(d, "dem.h5")
+    return None
+
+
+def rule_errors(csv_path, rows):
+    """Replaces the DEM rows' drag, lift and torque errors by the one statistics rule's
+    (Result.block_errors() of the run's dem.h5)."""
+    for r in rows:
+        if r["solver"] != "dem":
+            continue
+        h5 = dem_h5(csv_path, r)
+        if h5 is None:
+            print(f"warning: {csv_path}: no dem.h5 for {r.get('run_dir')}: its errors are the "
+                  "CSV's", file=sys.stderr)
+            continue
+        for key, e in io.read(h5, "dem").block_errors().items():
+            r[key] = repr(e)
+    return rows
+
+
 def read(spec):
     path, _, label = spec.partition(":")
     path, _, only = path.partition("#")
     rows = [r for r in io.sweep_rows(path) if r["solver"] in ((only,) if only else ("dem", "fem"))]
-    return rows, label or path
+    return rule_errors(path, rows), label or path
 
 
 def pooled(specs):

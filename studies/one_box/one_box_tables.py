@@ -4,10 +4,13 @@ FEM / DEM
 for drag, lift, torque and L/D with the difference in units of the combined error (the DEM's
 block standard error, the FEM's mesh-error estimate), and the rms difference of sigma_n(theta)
 and sigma_t(theta) over P0; the same for the continuum's former box (continuum.box_half_size).
-Every number comes from `grainlift compare --json` on the run folders.
+Every number comes from `grainlift compare --json` on the run folders, except the DEM's errors:
+those are the one statistics rule's (grainlift.io Result.block_errors(): the correlation-corrected
+block error of the file's force series), whichever binary wrote the file.
 
     python3 studies/one_box/one_box_tables.py build/bin/grainlift runs/one_box
 """
+import functools
 import json
 import math
 import os
@@ -18,20 +21,21 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..
 from grainlift import io  # noqa: E402
 from grainlift.windows import window_mean  # noqa: E402
 
-# The depth sweep's DEM beyond h = 8 D: pooled over three beds (one at h = 2 D), forces over
-# 20-60 d of travel, from docs/results-guillard2014.md's pooled table ("The depth sweep":
-# studies/depth/study_depth.sh d6 + d6beds, plot_depth_study.py --window 20 60, 858bc40):
+# The depth sweep's DEM beyond h = 8 D: pooled over three beds (one at h = 2 D and at lid-only
+# 6 D), forces over 20-60 d of travel, the rows dem_d6_pooled of the depth study's table
+# (studies/depth/study_depth.sh d6 + d6beds, plot_depth_study.py --window 20 60 at fa2750a: the
+# errors by the one statistics rule, the correlation-corrected block error):
 # name: (drag, drag error, lift, lift error) in N/m.
 DEPTH_DEM_POOLED = {
-    "free_surface_h2": (0.02849, 0.00095, 0.01377, 0.0018),
-    "heavy_lid_h4": (0.07801, 0.0015, 0.02856, 0.0014),
-    "heavy_lid_h6": (0.1187, 0.0020, 0.03312, 0.0022),
+    "free_surface_h2": (0.02849, 0.00099, 0.01378, 0.0033),
+    "heavy_lid_h4": (0.07798, 0.0020, 0.02856, 0.0015),
+    "heavy_lid_h6": (0.1187, 0.0027, 0.03309, 0.0027),
     "heavy_lid_h8": (0.1634, 0.0022, 0.04026, 0.0020),
-    "heavy_lid_h12": (0.2363, 0.0040, 0.04616, 0.0037),
-    "lid_only_h4": (0.07601, 0.0011, 0.001968, 0.00095),
-    "lid_only_h6": (0.1144, 0.0024, -0.0001709, 0.0026),
-    "lid_only_h8": (0.1477, 0.0021, 0.00465, 0.0025),
-    "lid_only_h12": (0.2196, 0.0026, 0.01561, 0.0032),
+    "heavy_lid_h12": (0.2363, 0.0058, 0.04616, 0.0052),
+    "lid_only_h4": (0.07601, 0.0011, 0.001945, 0.00099),
+    "lid_only_h6": (0.1144, 0.0024, -0.0001666, 0.0035),
+    "lid_only_h8": (0.1477, 0.0024, 0.004644, 0.0025),
+    "lid_only_h12": (0.2197, 0.0029, 0.01562, 0.0035),
 }
 
 
@@ -42,6 +46,14 @@ def compare(grainlift, a, b):
 
 
 summary = io.summary
+
+
+@functools.lru_cache(maxsize=None)
+def dem_errors(dem_h5):
+    """{"drag_stderr", "lift_stderr", "torque_stderr"} of a DEM result by the one statistics
+    rule (Result.block_errors()), in place of the errors the file stores (runs written before
+    fa2750a hold the uncorrected block error)."""
+    return io.read(dem_h5, "dem").block_errors()
 
 
 def z(a, ea, b, eb):
@@ -68,6 +80,8 @@ def row(grainlift, dem_dir, fem_dir, label):
     if not (os.path.exists(dem_h5) and os.path.exists(fem_h5)):
         return None
     c = compare(grainlift, dem_h5, fem_h5)
+    for q, e in dem_errors(dem_h5).items():  # the DEM's errors by the one statistics rule
+        c[q.replace("_stderr", "_err_a")] = e
     cells = [label]
     for q in ("drag", "lift", "torque"):
         a, b = c[f"{q}_a"], c[f"{q}_b"]
@@ -151,6 +165,7 @@ def omega_table(root):
         if not os.path.exists(os.path.join(d, "dem", "summary.json")):
             continue
         s = summary(os.path.join(d, "dem"), "dem")
+        s.update(dem_errors(os.path.join(d, "dem", "dem.h5")))  # the one statistics rule
         r, e = ld(s["drag"], s["drag_stderr"], s["lift"], s["lift_stderr"])
         cells = [f"{omega:g}", f"{s['drag']:.0f} +- {s['drag_stderr']:.0f}",
                  f"{s['lift']:+.0f} +- {s['lift_stderr']:.0f}", f"{r:+.2f} +- {e:.2f}"]
