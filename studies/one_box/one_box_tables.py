@@ -8,7 +8,10 @@ Every number comes from `grainlift compare --json` on the run folders, except th
 those are the one statistics rule's (grainlift.io Result.block_errors(): the correlation-corrected
 block error of the file's force series), whichever binary wrote the file.
 
-    python3 studies/one_box/one_box_tables.py build/bin/grainlift runs/one_box
+    python3 studies/one_box/one_box_tables.py build/bin/grainlift runs/one_box [runs/depth_study]
+
+The depth sweep's DEM (pooled over beds, 20-60 d) comes from the depth study's runs (third
+argument; default depth_study beside the one-box folder), as plot_depth_study.py makes it.
 """
 import functools
 import json
@@ -21,22 +24,21 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..
 from grainlift import io  # noqa: E402
 from grainlift.windows import window_mean  # noqa: E402
 
-# The depth sweep's DEM beyond h = 8 D: pooled over three beds (one at h = 2 D and at lid-only
-# 6 D), forces over 20-60 d of travel, the rows dem_d6_pooled of the depth study's table
-# (studies/depth/study_depth.sh d6 + d6beds, plot_depth_study.py --window 20 60 at fa2750a: the
-# errors by the one statistics rule, the correlation-corrected block error):
-# name: (drag, drag error, lift, lift error) in N/m.
-DEPTH_DEM_POOLED = {
-    "free_surface_h2": (0.02849, 0.00099, 0.01378, 0.0033),
-    "heavy_lid_h4": (0.07798, 0.0020, 0.02856, 0.0015),
-    "heavy_lid_h6": (0.1187, 0.0027, 0.03309, 0.0027),
-    "heavy_lid_h8": (0.1634, 0.0022, 0.04026, 0.0020),
-    "heavy_lid_h12": (0.2363, 0.0058, 0.04616, 0.0052),
-    "lid_only_h4": (0.07601, 0.0011, 0.001945, 0.00099),
-    "lid_only_h6": (0.1144, 0.0024, -0.0001666, 0.0035),
-    "lid_only_h8": (0.1477, 0.0024, 0.004644, 0.0025),
-    "lid_only_h12": (0.2197, 0.0029, 0.01562, 0.0035),
-}
+DEPTH_SCENES = ("free_surface_h2", "heavy_lid_h4", "heavy_lid_h6", "heavy_lid_h8", "heavy_lid_h12",
+                "lid_only_h4", "lid_only_h6", "lid_only_h8", "lid_only_h12")
+
+
+def depth_dem_pooled(depth_root):
+    """The depth sweep's DEM pooled over beds, forces over 20-60 d of travel, as
+    studies/depth/plot_depth_study.py --window 20 60 makes them from DEPTH_ROOT (the study's
+    runs): {name: (drag, drag error, lift, lift error)} in N/m; empty without those runs."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "depth"))
+    import plot_depth_study as depth  # noqa: E402
+    from grainlift.beds import pool_series  # noqa: E402
+    runs = depth.load(depth_root, (20.0, 60.0))
+    pool_series(runs, "dem_d6", depth.BEDS, "dem_d6_pooled")
+    return {n: (r["drag"], r["drag_err"], r["lift"], r["lift_err"])
+            for (s, n), r in runs.items() if s == "dem_d6_pooled" and n in DEPTH_SCENES}
 
 
 def compare(grainlift, a, b):
@@ -180,10 +182,12 @@ def omega_table(root):
 
 
 def main():
-    if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
+    if len(sys.argv) not in (3, 4) or sys.argv[1] in ("-h", "--help"):
         print(__doc__, file=sys.stderr)
         return 0 if sys.argv[1:2] in (["-h"], ["--help"]) else 2
     grainlift, root = sys.argv[1], sys.argv[2]
+    depth_root = sys.argv[3] if len(sys.argv) > 3 else os.path.join(os.path.dirname(root),
+                                                                    "depth_study")
     wake_windows(root)
     omega_table(root)
     for variant, title in VARIANTS:
@@ -203,7 +207,11 @@ def main():
     print("| scene | P0 (Pa) | DEM L/B | FEM L/B | FEM/DEM lift (z) | DEM C_d | FEM C_d | "
           "FEM/DEM drag (z) | FEM far field | FEM former box: L/B, C_d |")
     print("|---" * 10 + "|")
-    for name, (dd, edd, dl, edl) in DEPTH_DEM_POOLED.items():
+    pooled = depth_dem_pooled(depth_root)
+    for name in DEPTH_SCENES:
+        if name not in pooled:
+            continue
+        dd, edd, dl, edl = pooled[name]
         fem_dir = os.path.join(root, name, "fem")
         if not os.path.exists(os.path.join(fem_dir, "summary.json")):
             continue

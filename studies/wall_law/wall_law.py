@@ -188,7 +188,8 @@ def write_wall(path, rows, threshold):
 
 def print_fem_sweep(folder, rows):
     """The continuum's torque and lift against continuum.wall_friction, per Omega."""
-    dem = {x["omega"]: x["dem"].means for x in rows if x["name"].startswith("demo_")}
+    dem = {x["omega"]: {**x["dem"].means, **x["dem"].block_errors()} for x in rows
+           if x["name"].startswith("demo_")}
     table = {}
     for name in sorted(os.listdir(folder)):
         p = os.path.join(folder, name, "fem.h5")
