@@ -29,7 +29,8 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
   base.pressure = pressure;
   Calibration cal;
   std::vector<ShearPoint> fit_points;
-  for (const double target : o.inertial_numbers) {
+  // One point: run, report, keep. Returns false when the cell could not run it.
+  auto measure = [&](double target, const std::string& note) {
     const auto t0 = std::chrono::steady_clock::now();
     CalibrationPoint p;
     p.target_I = target;
@@ -44,24 +45,41 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
     }
     p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!p.failure.empty()) {
-      say(fmt::format("I target {:<6g} FAILED, left out of the fit ({:.1f} s): {}", target,
-                      p.wall_seconds, p.failure));
+      say(fmt::format("I target {:<6.3g} FAILED, left out of the fit ({:.1f} s){}: {}", target,
+                      p.wall_seconds, note, p.failure));
       cal.points.push_back(p);
-      continue;
+      return false;
     }
     p.point = {r.inertial_number, r.friction.mean, r.friction.se, r.area_fraction.mean,
                r.area_fraction.se};
     p.steady = r.steady;
     p.profile_r2 = r.profile_r2;
     p.fitted = r.profile_r2 >= o.min_profile_r2 && p.point.mu_stderr > 0 && p.point.phi_stderr > 0;
-    say(fmt::format("I target {:<6g} measured {:.4g}: mu {:.4f} +- {:.4f}, Phi {:.4f} +- {:.4f}, "
-                    "profile R^2 {:.3f}{}{} ({:.1f} s)",
+    say(fmt::format("I target {:<6.3g} measured {:.4g}: mu {:.4f} +- {:.4f}, Phi {:.4f} +- "
+                    "{:.4f}, profile R^2 {:.3f}{}{} ({:.1f} s){}",
                     target, p.point.I, p.point.mu, p.point.mu_stderr, p.point.phi,
                     p.point.phi_stderr, p.profile_r2, p.steady ? "" : ", NOT steady",
                     p.fitted ? "" : ", shear-banded or no error: left out of the fit",
-                    p.wall_seconds));
+                    p.wall_seconds, note));
     if (p.fitted) fit_points.push_back(p.point);
     cal.points.push_back(p);
+    return true;
+  };
+  // A target the cell cannot run (too fast for soft grains: overlaps) above one it ran is
+  // tried once more half way between them on a log scale, so the fit keeps the upper end of
+  // the range the grains allow (mu_2 and I0 are set there).
+  double last_run = 0;
+  for (const double target : o.inertial_numbers) {
+    if (measure(target, "")) {
+      last_run = target;
+      continue;
+    }
+    if (last_run > 0 && last_run < target) {
+      const double between = std::sqrt(last_run * target);
+      if (measure(between, fmt::format(" (between {:g} and {:g}, which the cell could not run)",
+                                       last_run, target)))
+        last_run = between;
+    }
   }
   if (fit_points.size() < 4)
     throw InputError(fmt::format(

@@ -320,8 +320,10 @@ TEST(EndToEnd, CalibrateWritesAFittedRheologyFile) {
 // A shear-cell point the DEM cannot run (Guillard's soft grains, E = 5 MPa, at I = 0.5 and
 // P = 1.2 N/m: the linear start profile of a dense bed drives overlaps above 0.1 d within 230
 // steps) is reported by name and left out of the fit; the calibration still fits the other
-// points and writes the file (measured: 4 points fitted, the I = 0.5 one refused with the
-// overlap it reached). One bad point must not cost the user the whole sweep.
+// points and writes the file. One bad point must not cost the user the whole sweep, nor the top
+// of the range: the cell tries once more at sqrt(0.2 x 0.5) = 0.316, which these grains run
+// (measured: 5 points fitted, the I = 0.5 one refused with the overlap it reached, the highest
+// measured I about 0.29).
 TEST(EndToEnd, CalibrateLeavesOutAPointTheCellCannotRun) {
   const fs::path dir = scratch();
   const fs::path case_file = dir / "soft.toml";
@@ -354,8 +356,12 @@ packing_cache = ""
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("I target 0.5    FAILED, left out of the fit"), std::string::npos) << out;
   EXPECT_NE(out.find("overlap"), std::string::npos) << out;
+  EXPECT_NE(out.find("I target 0.316  measured"), std::string::npos) << out;
+  EXPECT_NE(out.find("(between 0.2 and 0.5, which the cell could not run)"), std::string::npos)
+      << out;
   const RheologyFile f = read_rheology_file(law.string());
-  EXPECT_EQ(f.points.size(), 4u) << out;
+  EXPECT_EQ(f.points.size(), 5u) << out;
+  EXPECT_GT(f.I_max, 0.22) << out;  // above the 0.2 point: the retried one is in the fit
   EXPECT_LT(f.I_max, 0.4) << out;
   fs::remove_all(dir);
 }
