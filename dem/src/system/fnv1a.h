@@ -7,6 +7,9 @@
 
 namespace grainlift::dem::detail {
 
+// Not FNV's published offset basis (14695981039346656037, which shared's fnv1a64_hex uses): a
+// digit short. Kept, because the packing cache's keys and the checkpoints' checksums written so
+// far are of it; the hash is as good with any nonzero basis.
 constexpr std::uint64_t kFnvOffset = 1469598103934665603ull;
 
 /// @p h (kFnvOffset to start) carried over the @p n bytes at @p data.

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/results/atomic_file.h"
 
@@ -16,16 +17,10 @@ namespace grainlift {
 
 namespace {
 
-constexpr std::string_view kCacheLine = "# grainlift cache 1 fnv1a64 ";
-
-std::uint64_t fnv1a64(std::string_view text) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char ch : text) {
-    h ^= ch;
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
+// Format 2: the checksum and the keys are the case hash's FNV-1a (case_loader.h, the standard
+// offset basis); format 1 used a mistyped basis, so its entries carry other keys and are not
+// found (a run recalibrates), and one found by name is "of another cache format".
+constexpr std::string_view kCacheLine = "# grainlift cache 2 fnv1a64 ";
 
 /// The cache entry @p path, read once: its last line's checksum against the bytes above it,
 /// then its contents as a rheology file into @p law; what is wrong with it ("" when sound).
@@ -40,8 +35,7 @@ std::string read_cache_entry(const std::string& path, RheologyFile& law) {
   const std::string_view tail = std::string_view(text).substr(start);
   if (tail.rfind("# grainlift cache ", 0) == 0) {
     if (tail.rfind(kCacheLine, 0) != 0) return "it is of another cache format";
-    const std::string want =
-        fmt::format("{:016x}", fnv1a64(std::string_view(text).substr(0, start)));
+    const std::string want = fnv1a64_hex(text.substr(0, start));
     if (tail.substr(kCacheLine.size(), 16) != want) return "its checksum does not match";
   }
   try {
@@ -74,7 +68,7 @@ std::string grain_material_key(const Case& c, double pressure) {
       "gt {:.17g} E {:.17g} nu {:.17g} e {:.17g} dt {:.17g} P {:.6g}",
       g.diameter, g.polydispersity, g.density, g.friction, k.law, k.kn, k.kt, k.gamma_n,
       k.gamma_t, k.youngs_modulus, k.poisson_ratio, k.restitution, c.dem.dt, pressure);
-  return fmt::format("{:016x}", fnv1a64(text));
+  return fnv1a64_hex(text);
 }
 
 std::string rheology_cache_path(const Case& c, double pressure) {
@@ -119,7 +113,7 @@ std::string use_cached_rheology(Case& c) {
 
 void cache_rheology(const std::string& path, const RheologyFile& law) {
   const std::string text = rheology_file_text(law, path);
-  write_text_atomically(path, text + fmt::format("{}{:016x}\n", kCacheLine, fnv1a64(text)));
+  write_text_atomically(path, text + fmt::format("{}{}\n", kCacheLine, fnv1a64_hex(text)));
 }
 
 }  // namespace grainlift

@@ -20,7 +20,8 @@ Case load_case(const std::string& path, const std::vector<std::string>& override
 Case parse_case(const std::string& text, const std::string& name,
                 const std::vector<std::string>& overrides = {});
 
-/// FNV-1a 64-bit hash of a string, as 16 hex digits.
+/// FNV-1a 64-bit hash of a string (offset basis 14695981039346656037), as 16 hex digits: the
+/// case hash and the calibration cache's keys and checksums.
 std::string fnv1a64_hex(const std::string& text);
 
 }  // namespace grainlift

@@ -6,7 +6,7 @@
 //   $XDG_CACHE_HOME/grainlift/rheology/rheology-<key>.toml   (dem.packing_cache = "auto")
 //   <dem.packing_cache>/rheology/rheology-<key>.toml         (a folder of the user's)
 //   nothing                                                   (dem.packing_cache = "")
-// An entry is the rheology file with a last line "# grainlift cache 1 fnv1a64 <16 hex>", the
+// An entry is the rheology file with a last line "# grainlift cache 2 fnv1a64 <16 hex>", the
 // cache format and a checksum of every byte above it: a damaged entry is found, reported as a
 // cache problem and removed (an entry written before checksums, without that line, is read
 // as it is).
