@@ -77,6 +77,28 @@ TEST(CaseLoader, ValidCaseFillsDefaultsAndDerivedQuantities) {
   EXPECT_EQ(c.source.hash.size(), 16u);
 }
 
+// The continuum's default is a stated error, not a level: a case naming neither gets 1% over
+// nested levels up to refinement 4; a level stated alone is that level with no target; a target
+// alone refines up to 4; without nested levels to stop (nested = false, adaptive cycles) the
+// unstated level is 2 and there is no target (the validation refuses a target there).
+TEST(CaseLoader, ContinuumDefaultIsATargetErrorNotALevel) {
+  auto cn = [](std::vector<std::string> sets) {
+    return parse_case(base, "case.toml", std::move(sets)).continuum;
+  };
+  EXPECT_EQ(cn({}).target_error, 0.01);
+  EXPECT_EQ(cn({}).refinement, 4);
+  EXPECT_EQ(cn({"continuum.refinement=3"}).target_error, 0.0);
+  EXPECT_EQ(cn({"continuum.refinement=3"}).refinement, 3);
+  EXPECT_EQ(cn({"continuum.target_error=0.002"}).target_error, 0.002);
+  EXPECT_EQ(cn({"continuum.target_error=0.002"}).refinement, 4);
+  EXPECT_EQ(cn({"continuum.refinement=5", "continuum.target_error=0.05"}).refinement, 5);
+  EXPECT_EQ(cn({"continuum.refinement=5", "continuum.target_error=0.05"}).target_error, 0.05);
+  EXPECT_EQ(cn({"continuum.nested=false"}).target_error, 0.0);
+  EXPECT_EQ(cn({"continuum.nested=false"}).refinement, 2);
+  EXPECT_EQ(cn({"continuum.adaptive_cycles=1"}).target_error, 0.0);
+  EXPECT_EQ(cn({"continuum.adaptive_cycles=1"}).refinement, 2);
+}
+
 TEST(CaseLoader, LithostaticCentrePressure) {
   // rho g depth: rho = 0.8 * 20 = 16, g = 10, depth = 0.4 - 0.1 = 0.3 -> 48 Pa; the
   // continuum adds its ambient pressure on top.

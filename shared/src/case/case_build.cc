@@ -110,6 +110,16 @@ ContinuumSection read_continuum(const toml::table& r, const toml::table& root) {
   cn.target_error = get_real(r, "continuum.target_error");
   cn.nested = get_bool(r, "continuum.nested");
   cn.mesh_error_estimate = get_bool(r, "continuum.mesh_error_estimate");
+  // The default is a stated error, not a level: a case that names neither
+  // continuum.refinement nor continuum.target_error gets nested levels up to the default
+  // refinement that stop at the first meeting the default target; a level stated alone is
+  // solved as it is (no target). Without nested levels to stop (nested = false, adaptive
+  // cycles) an unstated level is 2, the level these modes were measured at, and no target.
+  const bool level_stated = bool(root.at_path("continuum.refinement"));
+  const bool target_stated = bool(root.at_path("continuum.target_error"));
+  const bool levels_stop = cn.nested && cn.adaptive_cycles == 0;
+  if (!target_stated && (level_stated || !levels_stop)) cn.target_error = 0;
+  if (!level_stated && !levels_stop) cn.refinement = 2;
   cn.tolerance = get_real(r, "continuum.tolerance");
   cn.max_iterations = int(get_int(r, "continuum.max_iterations"));
   cn.picard_iterations = int(get_int(r, "continuum.picard_iterations"));
