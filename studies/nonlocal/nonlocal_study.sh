@@ -4,8 +4,15 @@
 # 0, 2, 4, local and nonlocal_fluidity at A = 0.25, 0.5, 1 (the splitting stopped when the
 # forces move by less than 1% in two iterations running). The DEM's numbers are those of
 # docs/crosscheck.md (same case, same boxes). Prints one table row per run.
-#   studies/nonlocal/nonlocal_study.sh [OUT_DIR] [boxes|depth|all]
-#     (default runs/nonlocal, all; boxes ~25 min, depth ~10 min on one core)
+#   studies/nonlocal/nonlocal_study.sh [OUT_DIR] [boxes|depth|models|all]
+#     (default runs/nonlocal, all; boxes ~25 min, depth ~10 min, models ~15 min on one core)
+# models: the wall law measured on the grains, alone and with A = 0.5 (issue 35's table):
+#   the demo's grains: continuum.wall_law = "measured_slip" from OUT_DIR/demo_wall.toml (the
+#   demo's rheology.toml with the [wall] table that scripts/fit_wall.py fits on
+#   runs/wall_law/demo_o*/dem: the demo's DEM at Omega 0-8, made first if absent); the
+#   depth sweep's grains (no slip histogram there): a Coulomb wall with their measured mu_w,
+#   0.117 (studies/wall_law: the three gravity runs' mu_w 0.128, 0.113, 0.114 averaged).
+#   Then studies/nonlocal/model_table.py prints the comparison with the DEM.
 # depth: the heavy-lid scenes of the depth sweep at h = 4, 8, 12 D (studies/depth, its box with
 # 6 D of bed below), local and A = 0.5.
 set -euo pipefail
@@ -48,10 +55,47 @@ if [[ $PART == depth || $PART == all ]]; then
   CASE=cases/guillard2014/depth_sweep.toml
   for h in 4 8 12; do
     depth=$(awk -v h=$h 'BEGIN { printf "%.6g", h * 0.015 }')
-    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth")
+    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth" --set continuum.refinement=2)
     run "depth_h${h}_local" "${d6[@]}"
     run "depth_h${h}_A0.5" "${d6[@]}" --set 'continuum.model="nonlocal_fluidity"' \
       --set continuum.nonlocal_amplitude=0.5 --set continuum.nonlocal_tolerance=0.01
+  done
+  CASE=cases/demo/demo.toml
+fi
+if [[ $PART == models || $PART == all ]]; then
+  for o in 0 0.5 1 2 4 8; do  # the demo's DEM with the slip histogram, for the wall law
+    d=runs/wall_law/demo_o${o/./}/dem
+    [[ -f $d/dem.h5 ]] || "$G" run cases/demo/demo.toml --solver dem --threads 1 --quiet \
+      --set "intruder.omega=$(awk -v o="$o" 'BEGIN { printf "%g", 10 * o }')" --out "$d" >/dev/null
+  done
+  WALL=$(realpath -m "$O/demo_wall.toml")
+  if [[ ! -f $WALL ]]; then
+    cp cases/demo/rheology.toml "$WALL"
+    /usr/bin/python3 scripts/fit_wall.py "$WALL" runs/wall_law/demo_o*/dem
+  fi
+  MEASURED=(--set "continuum.rheology_file=\"$WALL\"" --set 'continuum.wall_law="measured_slip"')
+  NGF=(--set 'continuum.model="nonlocal_fluidity"' --set continuum.nonlocal_amplitude=0.5
+       --set continuum.nonlocal_tolerance=0.01)
+  for box in demo big; do
+    extra=()
+    [[ $box == big ]] && extra=("${BIG[@]}")
+    for W in 0 2 4 8; do
+      [[ $box == big && $W == 8 ]] && continue  # no DEM run of the 16 D box at Omega 8
+      omega=$((10 * W))
+      run "${box}_O${W}_local" "${extra[@]}" --set "intruder.omega=$omega"
+      run "${box}_O${W}_A0.5" "${extra[@]}" --set "intruder.omega=$omega" "${NGF[@]}"
+      run "${box}_O${W}_wall" "${extra[@]}" --set "intruder.omega=$omega" "${MEASURED[@]}"
+      run "${box}_O${W}_wall_A0.5" "${extra[@]}" --set "intruder.omega=$omega" \
+        "${MEASURED[@]}" "${NGF[@]}"
+    done
+  done
+  CASE=cases/guillard2014/depth_sweep.toml
+  for h in 4 8 12; do
+    depth=$(awk -v h=$h 'BEGIN { printf "%.6g", h * 0.015 }')
+    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth" --set continuum.refinement=2)
+    coulomb=(--set 'continuum.wall="coulomb"' --set continuum.wall_friction=0.117)
+    run "depth_h${h}_wall" "${d6[@]}" "${coulomb[@]}"
+    run "depth_h${h}_wall_A0.5" "${d6[@]}" "${coulomb[@]}" "${NGF[@]}"
   done
   CASE=cases/demo/demo.toml
 fi
