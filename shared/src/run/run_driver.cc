@@ -22,6 +22,9 @@
 #ifndef GRAINLIFT_VERSION
 #define GRAINLIFT_VERSION "0.0.0"
 #endif
+#if __has_include("git_revision.h")  // generated at every build (cmake/git_revision.cmake)
+#include "git_revision.h"
+#endif
 #ifndef GRAINLIFT_GIT_REVISION
 #define GRAINLIFT_GIT_REVISION "unknown"
 #endif
