@@ -27,7 +27,9 @@ run() {  # run NAME ARGS...
   local dir="$O/$name"
   mkdir -p "$dir"
   if [[ ! -f "$dir/fem.h5" ]]; then
-    "$G" run "$CASE" --solver fem --quiet --out "$dir" "$@" > "$dir/log.txt" 2>&1 ||
+    "$G" run "$CASE" --solver fem --quiet --out "$dir" --set continuum.refinement=2 \
+      --set continuum.target_error=0 "$@" \
+      > "$dir/log.txt" 2>&1 ||
       { echo "| $name | failed: $(tail -1 "$dir/log.txt" | cut -c1-160) |"; return 0; }
   fi
   /usr/bin/python3 - "$dir" "$name" <<'PY'
@@ -55,7 +57,7 @@ if [[ $PART == depth || $PART == all ]]; then
   CASE=cases/guillard2014/depth_sweep.toml
   for h in 4 8 12; do
     depth=$(awk -v h=$h 'BEGIN { printf "%.6g", h * 0.015 }')
-    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth" --set continuum.refinement=2)
+    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth")
     run "depth_h${h}_local" "${d6[@]}"
     run "depth_h${h}_A0.5" "${d6[@]}" --set 'continuum.model="nonlocal_fluidity"' \
       --set continuum.nonlocal_amplitude=0.5 --set continuum.nonlocal_tolerance=0.01
@@ -92,7 +94,7 @@ if [[ $PART == models || $PART == all ]]; then
   CASE=cases/guillard2014/depth_sweep.toml
   for h in 4 8 12; do
     depth=$(awk -v h=$h 'BEGIN { printf "%.6g", h * 0.015 }')
-    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth" --set continuum.refinement=2)
+    d6=(--set 'domain.y_range=[-0.09,0.03]' --set "scene.depth=$depth")
     coulomb=(--set 'continuum.wall="coulomb"' --set continuum.wall_friction=0.117)
     run "depth_h${h}_wall" "${d6[@]}" "${coulomb[@]}"
     run "depth_h${h}_wall_A0.5" "${d6[@]}" "${coulomb[@]}" "${NGF[@]}"
