@@ -67,7 +67,8 @@ class MachineFaults(unittest.TestCase):
         self.assertGreater(res.attrs("means")["drag"], 0.0)
 
     def test_continuum_level_that_cannot_fit_is_refused_the_last_one_kept(self):
-        p = run(self.out, "fem", ["continuum.refinement=4", "continuum.target_error=0"], limit_bytes=1400 * 1024 * 1024)
+        p = run(self.out, "fem", ["continuum.refinement=4", "continuum.target_error=0"],
+                limit_bytes=1400 * 1024 * 1024)
         self.assertEqual(p.returncode, 1, p.stderr)
         self.assertNotIn("MPI_ABORT", p.stderr)
         self.assertIn("the continuum ran out of memory: the direct solve (MUMPS) of 177440 "
@@ -81,7 +82,8 @@ class MachineFaults(unittest.TestCase):
 # the same limit, but the memory check is told there is plenty (the hook stands for a
         # limit of 1 TB): MUMPS's own allocation fails (INFOG(1) = -13), which Amesos hands
         # back as an error code; it ends in the same sentence
-        p = run(self.out, "fem", ["continuum.refinement=4", "continuum.target_error=0"], limit_bytes=1400 * 1024 * 1024,
+        p = run(self.out, "fem", ["continuum.refinement=4", "continuum.target_error=0"],
+                limit_bytes=1400 * 1024 * 1024,
                 env={"GRAINLIFT_TEST_MEMORY_MB": "1000000"})
         self.assertEqual(p.returncode, 1, p.stderr)
         self.assertNotIn("MPI_ABORT", p.stderr)
