@@ -79,7 +79,7 @@ class MachineFaults(unittest.TestCase):
         self.assert_partial_level(3)
 
     def test_factorisation_out_of_memory_is_the_same_sentence(self):
-# the same limit, but the memory check is told there is plenty (the hook stands for a
+        # the same limit, but the memory check is told there is plenty (the hook stands for a
         # limit of 1 TB): MUMPS's own allocation fails (INFOG(1) = -13), which Amesos hands
         # back as an error code; it ends in the same sentence
         p = run(self.out, "fem", ["continuum.refinement=4", "continuum.target_error=0"],
