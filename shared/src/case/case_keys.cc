@@ -245,15 +245,13 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                    "open far field: the FE box's length upstream and downstream of the "
                    "intruder's centre, in intruder diameters"));
   k.push_back(integer("continuum.refinement", "4", 0, 7,
-                      "global refinement level of the mesh (each level quarters the cells): "
-                      "with continuum.target_error the finest nested level allowed; stated "
-                      "without a target, the level solved; 2 when unstated with nested = false "
-                      "or adaptive_cycles"));
+                      "mesh level (each quarters the cells): the finest allowed with a target "
+                      "error; stated without one, the level solved; unstated with nested = "
+                      "false or adaptive_cycles, 2"));
   k.push_back(real("continuum.target_error", false, "0.01", 0, 1, false, true, "-",
-                   "> 0: the nested levels stop at the first level >= 2 whose estimated "
-                   "relative force error is at or below it (continuum.refinement the finest "
-                   "allowed); 0: every level up to continuum.refinement. Unstated: 0.01, or 0 "
-                   "when the case states continuum.refinement (or has no nested levels)"));
+                   "> 0: the nested levels stop at the first >= 2 whose estimated relative "
+                   "force error is at most this (up to continuum.refinement); 0: every level. "
+                   "Unstated: 0.01, or 0 with a stated refinement or without nested levels"));
   k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
                       "adaptive refinement cycles after the first solve: each refines the 30% "
                       "of the cells with the largest Kelly indicator of the velocity (level "
