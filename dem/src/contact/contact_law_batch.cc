@@ -23,16 +23,22 @@ namespace {
 
 using D = hn::CappedTag<double, 8>;  // up to eight contacts per instruction
 
+// The constructors are written out, not implicit: an implicit one would be compiled without
+// this target's instruction set (GCC gives this target's options to the functions written
+// here), and could not inline the target's own constructors (NEON's masks have one).
+
 /// Independent contacts, one per lane: the arithmetic of a double, lane by lane.
 struct Lanes {
   hn::Vec<D> v;
-  Lanes() = default;
-  explicit Lanes(double x) : v(hn::Set(D(), x)) {}
-  explicit Lanes(hn::Vec<D> x) : v(x) {}
+  HWY_INLINE Lanes() {}
+  HWY_INLINE explicit Lanes(double x) : v(hn::Set(D(), x)) {}
+  HWY_INLINE explicit Lanes(hn::Vec<D> x) : v(x) {}
 };
 /// Which lanes a condition holds for.
 struct LaneMask {
   hn::Mask<D> m;
+  HWY_INLINE LaneMask() {}
+  HWY_INLINE explicit LaneMask(hn::Mask<D> x) : m(x) {}
 };
 
 HWY_INLINE Lanes operator+(Lanes a, Lanes b) { return Lanes(hn::Add(a.v, b.v)); }
@@ -45,8 +51,9 @@ HWY_INLINE Lanes operator-(Lanes a) {  // a sign flip, as unary minus on a doubl
 // IEEE square root (never an approximate reciprocal square root)
 HWY_INLINE Lanes sqrt_of(Lanes a) { return Lanes(hn::Sqrt(a.v)); }
 HWY_INLINE Lanes abs_of(Lanes a) { return Lanes(hn::Abs(a.v)); }  // the sign bit cleared
-HWY_INLINE LaneMask greater(Lanes a, Lanes b) { return {hn::Gt(a.v, b.v)}; }  // false for NaN
-HWY_INLINE LaneMask both(LaneMask a, LaneMask b) { return {hn::And(a.m, b.m)}; }
+// a > b lane by lane, false for NaN
+HWY_INLINE LaneMask greater(Lanes a, Lanes b) { return LaneMask(hn::Gt(a.v, b.v)); }
+HWY_INLINE LaneMask both(LaneMask a, LaneMask b) { return LaneMask(hn::And(a.m, b.m)); }
 HWY_INLINE bool any(LaneMask a) { return !hn::AllFalse(D(), a.m); }
 HWY_INLINE Lanes select(LaneMask m, Lanes a, Lanes b) {
   return Lanes(hn::IfThenElse(m.m, a.v, b.v));
