@@ -127,7 +127,7 @@ std::string simd_targets() {
   std::string lacking;
   for (const std::int64_t t : detail::each(detail::kBuilt & ~detail::runnable()))
     lacking += (lacking.empty() ? "" : ", ") + detail::name_of(t);
-  if (!lacking.empty()) s += " (this build also has " + lacking + "; this CPU lacks it)";
+  if (!lacking.empty()) s += " (also built, not run by this CPU: " + lacking + ")";
   return s;
 }
 

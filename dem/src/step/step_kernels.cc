@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "step/pair_screen.h"
 #include "step/simd_target.h"
 
 #undef HWY_TARGET_INCLUDE
@@ -41,6 +42,32 @@ HWY_INLINE V shift(D d, V v, M above, M below, V l, V neg_l) {
   return hn::Sub(v, hn::IfThenElse(above, l, hn::IfThenElse(below, neg_l, hn::Zero(d))));
 }
 
+/// x[index] lane by lane for the pair list's 32-bit indices (all >= 0). Two things of
+/// Highway 1.0's GatherIndex cost the pair screen of a dilute bed 18% against the hand-written
+/// AVX-512 loop it replaces: it takes only 64-bit indices (widened first), and on x86 it leaves
+/// the register the gather merges into to the compiler, which may pick one that still waits
+/// for the previous vector's arithmetic, so that successive gathers wait for each other. On x86
+/// therefore the gather of 32-bit indices, masked by index >= 0 (every lane: a mask the
+/// compiler cannot fold away) into a zeroed register, which depends on nothing; elsewhere the
+/// widened indices and Highway's gather.
+HWY_INLINE V gather32(D d, const double* base, hn::Vec<hn::Rebind<std::int32_t, D>> index) {
+  const hn::Rebind<std::int32_t, D> d32;
+#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
+  (void)d;
+  const auto valid = hn::Gt(index, hn::Set(d32, -1));
+  return V{_mm512_mask_i32gather_pd(_mm512_setzero_pd(), valid.raw, index.raw, base, 8)};
+#elif HWY_TARGET == HWY_AVX2
+  (void)d32;
+  const DI di;
+  const auto valid = hn::VecFromMask(di, hn::Gt(hn::PromoteTo(di, index), hn::Set(di, -1)));
+  return V{_mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index.raw,
+                                    hn::BitCast(d, valid).raw, 8)};
+#else
+  (void)d32;
+  return hn::GatherIndex(d, base, hn::PromoteTo(DI(), index));
+#endif
+}
+
 /// For each mask of up to eight lanes (bit j: lane j), its set lanes in increasing order, then
 /// zeros. The indices of the touching pairs are compressed with it: Highway 1.0's Compress of
 /// 64-bit lanes builds its own larger table on the stack at every call under GCC, and the
@@ -60,15 +87,15 @@ constexpr SetLanes make_set_lanes() {
 }
 constexpr SetLanes kSetLanes = make_set_lanes();
 
-/// Pairs [k0, k1) a vector at a time, with the operations of screen() (the scalar code below):
-/// x and y of the partners gathered, those of the owners (sorted: usually fewer distinct rows
-/// than lanes) loaded once and permuted; (r_i + r_j)^2 from rs2. The indices of the touching
-/// pairs are compressed into out, their number added to n. Returns the first pair not done
-/// (fewer pairs than lanes are left).
+/// screen_pairs() with rs2 on this target: pairs [k0, k1) a vector at a time, with the
+/// operations of screen_scalar() (pair_screen.h): x and y of the partners gathered, those of
+/// the owners (sorted: usually fewer distinct rows than lanes) loaded once and permuted;
+/// (r_i + r_j)^2 from rs2. The indices of the touching pairs are compressed into out. The last
+/// pairs (fewer than a vector) by screen_scalar(). Returns the number of touching pairs.
 template <bool kPx, bool kPy>
-std::int64_t screen_lanes(const PeriodicBox& box, const int* owner, const int* partner,
-                          const double* x, const double* y, const double* rs2, int n_total,
-                          std::int64_t k0, std::int64_t k1, std::int64_t* out, std::size_t& n) {
+std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* rs2, int n_total,
+                         std::int64_t k0, std::int64_t k1, std::int64_t* out) {
   const D d;
   const DI di;
   const hn::Rebind<std::int32_t, D> d32;
@@ -80,10 +107,13 @@ std::int64_t screen_lanes(const PeriodicBox& box, const int* owner, const int* p
   const V ly = hn::Set(d, lys), nly = hn::Set(d, -lys);
   const V hx = hn::Set(d, 0.5 * lxs), nhx = hn::Set(d, -(0.5 * lxs));
   const V hy = hn::Set(d, 0.5 * lys), nhy = hn::Set(d, -(0.5 * lys));
-  std::size_t count = n;
+  std::size_t count = 0;
   std::int64_t k = k0;
   for (; k + lanes <= k1; k += lanes) {
+    // both index vectors first: a gather is a long run of loads (microcode on some CPUs), and
+    // the partners' indices should not wait behind the owners' gathers
     const auto vi = hn::LoadU(d32, owner + k);
+    const auto vj = hn::LoadU(d32, partner + k);
     const int i0 = owner[k];
     V xi, yi;
     if (owner[k + lanes - 1] - i0 < lanes && i0 + lanes <= n_total) {
@@ -91,13 +121,11 @@ std::int64_t screen_lanes(const PeriodicBox& box, const int* owner, const int* p
       xi = hn::TableLookupLanes(hn::LoadU(d, x + i0), rel);
       yi = hn::TableLookupLanes(hn::LoadU(d, y + i0), rel);
     } else {
-      const auto wi = hn::PromoteTo(di, vi);
-      xi = hn::GatherIndex(d, x, wi);
-      yi = hn::GatherIndex(d, y, wi);
+      xi = gather32(d, x, vi);
+      yi = gather32(d, y, vi);
     }
-    const auto vj = hn::PromoteTo(di, hn::LoadU(d32, partner + k));
-    V dx = hn::Sub(xi, hn::GatherIndex(d, x, vj));
-    V dy = hn::Sub(yi, hn::GatherIndex(d, y, vj));
+    V dx = hn::Sub(xi, gather32(d, x, vj));
+    V dy = hn::Sub(yi, gather32(d, y, vj));
     if (kPx) dx = shift(d, dx, hn::Gt(dx, hx), hn::Lt(dx, nhx), lx, nlx);
     if (kPy) dy = shift(d, dy, hn::Gt(dy, hy), hn::Lt(dy, nhy), ly, nly);
     const V d2 = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
@@ -113,8 +141,8 @@ std::int64_t screen_lanes(const PeriodicBox& box, const int* owner, const int* p
       count += hn::CountTrue(d, touch);
     }
   }
-  n = count;
-  return k;
+  return count + screen_scalar<kPx, kPy, true>(box, owner, partner, x, y, nullptr, rs2, k, k1,
+                                               out + count);
 }
 
 /// Stores the lanes of @p v whose bits differ from @p old at @p p (a lane that keeps its
@@ -278,30 +306,36 @@ int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
 
 }  // namespace
 
-std::int64_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
-                         const double* x, const double* y, const double* rs2, int n_total,
-                         std::int64_t k0, std::int64_t k1, std::int64_t* out, std::size_t& n) {
+std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
+                        const double* x, const double* y, const double* rs2, int n_total,
+                        std::int64_t k0, std::int64_t k1, std::int64_t* out) {
   if (box.periodic_x) {
     return box.periodic_y
-               ? screen_lanes<true, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out, n)
-               : screen_lanes<true, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out,
-                                           n);
+               ? screen_lanes<true, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
+               : screen_lanes<true, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
   }
   return box.periodic_y
-             ? screen_lanes<false, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out, n)
-             : screen_lanes<false, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out,
-                                          n);
+             ? screen_lanes<false, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
+             : screen_lanes<false, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
 }
 
 int KickLanes(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
   return drift ? kick_groups<true>(k, i, hi, max_d2) : kick_groups<false>(k, i, hi, max_d2);
 }
 #else
-// no lanes of doubles here: everything is left to the scalar code
-std::int64_t ScreenLanes(const PeriodicBox&, const int*, const int*, const double*,
-                         const double*, const double*, int, std::int64_t k0, std::int64_t,
-                         std::int64_t*, std::size_t&) {
-  return k0;
+// no lanes of doubles here: the scalar code does everything (never chosen: simd_target.cc)
+std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
+                        const double* x, const double* y, const double* rs2, int,
+                        std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+  return box.periodic_x
+             ? (box.periodic_y ? screen_scalar<true, true, true>(box, owner, partner, x, y,
+                                                                 nullptr, rs2, k0, k1, out)
+                               : screen_scalar<true, false, true>(box, owner, partner, x, y,
+                                                                  nullptr, rs2, k0, k1, out))
+             : (box.periodic_y ? screen_scalar<false, true, true>(box, owner, partner, x, y,
+                                                                  nullptr, rs2, k0, k1, out)
+                               : screen_scalar<false, false, true>(box, owner, partner, x, y,
+                                                                   nullptr, rs2, k0, k1, out));
 }
 int KickLanes(const PlainKick&, bool, int i, int, double&) { return i; }
 #endif
@@ -319,50 +353,19 @@ HWY_EXPORT(ScreenLanes);
 HWY_EXPORT(KickLanes);
 HWY_EXPORT(KernelTarget);
 
-namespace {
-// Every k is written, the count advances only for touching pairs (a touching pair is rare
-// and unpredictable). The minimum image subtracts l, -l or +0.0 (d - 0.0 is d, d - (-l) is
-// d + l): the bits of PeriodicBox::min_image. One copy per periodicity (no image code along
-// a wall direction).
-template <bool kPx, bool kPy>
-std::size_t screen(const PeriodicBox& box, const int* owner, const int* partner,
-                   const double* x, const double* y, const double* r, std::int64_t k0,
-                   std::int64_t k1, std::int64_t* out) {
-  const double lx = box.lx(), ly = box.ly();
-  const double hx = 0.5 * lx, hy = 0.5 * ly;
-  std::size_t n = 0;
-#pragma GCC unroll 2
-  for (std::int64_t k = k0; k < k1; ++k) {
-    const int i = owner[k], j = partner[k];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    if (kPx) dx -= dx > hx ? lx : (dx < -hx ? -lx : 0.0);
-    if (kPy) dy -= dy > hy ? ly : (dy < -hy ? -ly : 0.0);
-    const double rs = r[i] + r[j];
-    out[n] = k;
-    n += dx * dx + dy * dy < rs * rs ? 1 : 0;
-  }
-  return n;
-}
-}  // namespace
-
 std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
                          const double* x, const double* y, const double* r, const double* rs2,
                          int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out) {
-  // the vector loop as far as it goes, the rest (all pairs on the scalar target) one by one;
-  // rs2[k] has the bits of the scalar code's (r_i + r_j)^2
-  std::size_t n = 0;
-  std::int64_t k = k0;
-  if (rs2 != nullptr && vector_enabled()) {
-    k = HWY_DYNAMIC_DISPATCH(ScreenLanes)(box, owner, partner, x, y, rs2, n_total, k0, k1, out,
-                                          n);
-  }
-  std::int64_t* rest = out + n;
+  if (rs2 != nullptr && vector_enabled())
+    return HWY_DYNAMIC_DISPATCH(ScreenLanes)(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
   if (box.periodic_x) {
-    return n + (box.periodic_y ? screen<true, true>(box, owner, partner, x, y, r, k, k1, rest)
-                               : screen<true, false>(box, owner, partner, x, y, r, k, k1, rest));
+    return box.periodic_y
+               ? screen_scalar<true, true, false>(box, owner, partner, x, y, r, rs2, k0, k1, out)
+               : screen_scalar<true, false, false>(box, owner, partner, x, y, r, rs2, k0, k1, out);
   }
-  return n + (box.periodic_y ? screen<false, true>(box, owner, partner, x, y, r, k, k1, rest)
-                             : screen<false, false>(box, owner, partner, x, y, r, k, k1, rest));
+  return box.periodic_y
+             ? screen_scalar<false, true, false>(box, owner, partner, x, y, r, rs2, k0, k1, out)
+             : screen_scalar<false, false, false>(box, owner, partner, x, y, r, rs2, k0, k1, out);
 }
 
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
