@@ -161,27 +161,13 @@ HWY_INLINE hn::Mask<D> nonzero_bytes(D d, const std::uint8_t* p) {
   return hn::RebindMask(d, hn::Ne(wide, hn::Zero(du)));
 }
 
-/// PeriodicBox::wrap and min_image's constants for the lanes: a direction that is not periodic
-/// never shifts (infinite bounds, lengths +0.0).
+/// PeriodicBox::wrap and min_image's constants, for the periodic directions.
 struct BoxShifts {
-  double wlx, wly, nwlx, nwly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
-  explicit BoxShifts(const PeriodicBox& b) {
-    const bool px = b.periodic_x, py = b.periodic_y;
-    // wrap: subtract l when x >= max, -l when x < min
-    wlx = px ? b.lx() : 0.0;
-    wly = py ? b.ly() : 0.0;
-    nwlx = px ? -b.lx() : 0.0;
-    nwly = py ? -b.ly() : 0.0;
-    xmax = px ? b.xmax : HUGE_VAL;
-    xmin = px ? b.xmin : -HUGE_VAL;
-    ymax = py ? b.ymax : HUGE_VAL;
-    ymin = py ? b.ymin : -HUGE_VAL;
-    // minimum image: dx > l/2 subtracts l, dx < -l/2 adds it
-    hx = px ? 0.5 * b.lx() : HUGE_VAL;
-    hy = py ? 0.5 * b.ly() : HUGE_VAL;
-    nhx = px ? -(0.5 * b.lx()) : -HUGE_VAL;
-    nhy = py ? -(0.5 * b.ly()) : -HUGE_VAL;
-  }
+  double lx, ly, nlx, nly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
+  explicit BoxShifts(const PeriodicBox& b)
+      : lx(b.lx()), ly(b.ly()), nlx(-b.lx()), nly(-b.ly()), xmax(b.xmax), xmin(b.xmin),
+        ymax(b.ymax), ymin(b.ymin), hx(0.5 * b.lx()), hy(0.5 * b.ly()), nhx(-(0.5 * b.lx())),
+        nhy(-(0.5 * b.ly())) {}
 };
 
 /// The accelerations of the grains [r, r + lanes) from their pair-force sums (finish_impl's
@@ -212,8 +198,9 @@ HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V
 
 /// The second half kick v(t+dt) = (v + h a) damp of the grains [r, r + lanes), h a given as
 /// (kx, ky, kw); with kDrift also the next step's half kick and drift, the largest squared
-/// displacement since the list build kept in @p md2 lane by lane.
-template <bool kDrift>
+/// displacement since the list build kept in @p md2 lane by lane. One copy per periodicity
+/// (kPx, kPy): no image code along a wall direction, where PeriodicBox changes nothing.
+template <bool kDrift, bool kPx, bool kPy>
 HWY_INLINE void kick_lanes(D d, const PlainKick& k, const BoxShifts& b, std::size_t r, V dt,
                            V damp, V kx, V ky, V kw, V& md2) {
   const V vx0 = hn::LoadU(d, k.vx + r), vy0 = hn::LoadU(d, k.vy + r);
@@ -228,20 +215,30 @@ HWY_INLINE void kick_lanes(D d, const PlainKick& k, const BoxShifts& b, std::siz
     const V x0 = hn::LoadU(d, k.x + r), y0 = hn::LoadU(d, k.y + r);
     V x = hn::Add(x0, hn::Mul(dt, vx));
     V y = hn::Add(y0, hn::Mul(dt, vy));
-    x = shift(d, x, hn::Ge(x, hn::Set(d, b.xmax)), hn::Lt(x, hn::Set(d, b.xmin)),
-              hn::Set(d, b.wlx), hn::Set(d, b.nwlx));
-    y = shift(d, y, hn::Ge(y, hn::Set(d, b.ymax)), hn::Lt(y, hn::Set(d, b.ymin)),
-              hn::Set(d, b.wly), hn::Set(d, b.nwly));
+    // wrap: subtract l when x >= max, -l when x < min
+    if (kPx) {
+      x = shift(d, x, hn::Ge(x, hn::Set(d, b.xmax)), hn::Lt(x, hn::Set(d, b.xmin)),
+                hn::Set(d, b.lx), hn::Set(d, b.nlx));
+    }
+    if (kPy) {
+      y = shift(d, y, hn::Ge(y, hn::Set(d, b.ymax)), hn::Lt(y, hn::Set(d, b.ymin)),
+                hn::Set(d, b.ly), hn::Set(d, b.nly));
+    }
     // positions too are stored only where a bit changes
     store_changed(d, x, x0, k.x + r);
     store_changed(d, y, y0, k.y + r);
     const hn::Rebind<float, D> df;
     V dx = hn::Sub(x, hn::PromoteTo(d, hn::LoadU(df, k.xb + r)));
     V dy = hn::Sub(y, hn::PromoteTo(d, hn::LoadU(df, k.yb + r)));
-    dx = shift(d, dx, hn::Gt(dx, hn::Set(d, b.hx)), hn::Lt(dx, hn::Set(d, b.nhx)),
-               hn::Set(d, b.wlx), hn::Set(d, b.nwlx));
-    dy = shift(d, dy, hn::Gt(dy, hn::Set(d, b.hy)), hn::Lt(dy, hn::Set(d, b.nhy)),
-               hn::Set(d, b.wly), hn::Set(d, b.nwly));
+    // minimum image: dx > l/2 subtracts l, dx < -l/2 adds it
+    if (kPx) {
+      dx = shift(d, dx, hn::Gt(dx, hn::Set(d, b.hx)), hn::Lt(dx, hn::Set(d, b.nhx)),
+                 hn::Set(d, b.lx), hn::Set(d, b.nlx));
+    }
+    if (kPy) {
+      dy = shift(d, dy, hn::Gt(dy, hn::Set(d, b.hy)), hn::Lt(dy, hn::Set(d, b.nhy)),
+                 hn::Set(d, b.ly), hn::Set(d, b.nly));
+    }
     const V d2 = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
     md2 = hn::IfThenElse(hn::Gt(d2, md2), d2, md2);  // a NaN d2 is ignored, as by the scalar test
   }
@@ -252,7 +249,7 @@ HWY_INLINE void kick_lanes(D d, const PlainKick& k, const BoxShifts& b, std::siz
 }
 
 /// kick_plain() on this target: groups of eight grains, each a vector (or several) at a time.
-template <bool kDrift>
+template <bool kDrift, bool kPx, bool kPy>
 int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
   const D d;
   const std::size_t lanes = hn::Lanes(d);
@@ -289,7 +286,7 @@ int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
       const std::size_t r = static_cast<std::size_t>(i) + o;
       V kx = hax, ky = hay, kw = hal;  // h a of each lane
       if (forces) accelerate(d, k, r, gx, gy, h, kx, ky, kw);
-      kick_lanes<kDrift>(d, k, box, r, dt, damp, kx, ky, kw, md2);
+      kick_lanes<kDrift, kPx, kPy>(d, k, box, r, dt, damp, kx, ky, kw, md2);
     }
     if (forces) {
       // touched cleared; the flag "accelerations set" on exactly the touched grains (no grain
@@ -320,7 +317,13 @@ std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* par
 }
 
 int KickLanes(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
-  return drift ? kick_groups<true>(k, i, hi, max_d2) : kick_groups<false>(k, i, hi, max_d2);
+  if (!drift) return kick_groups<false, false, false>(k, i, hi, max_d2);  // no box code
+  if (k.box.periodic_x) {
+    return k.box.periodic_y ? kick_groups<true, true, true>(k, i, hi, max_d2)
+                            : kick_groups<true, true, false>(k, i, hi, max_d2);
+  }
+  return k.box.periodic_y ? kick_groups<true, false, true>(k, i, hi, max_d2)
+                          : kick_groups<true, false, false>(k, i, hi, max_d2);
 }
 #else
 // no lanes of doubles here: the scalar code does everything (never chosen: simd_target.cc)
