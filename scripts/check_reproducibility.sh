@@ -6,7 +6,7 @@
 #
 #   scripts/check_reproducibility.sh BUILD_DIR CASE [dem|fem] [WORK_DIR]
 #
-# DEM conditions: 1 thread; 2 threads; the scalar loops instead of the AVX-512 ones
+# DEM conditions: 1 thread; 2 threads; the scalar loops instead of the vector ones
 # (GRAINLIFT_NO_SIMD=1); glibc's libm without its FMA variants, as on a CPU without FMA
 # (GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-FMA4: exp, log, pow, sin, ... then differ in the
 # last bit for some arguments). FEM: the same libm change, and OpenBLAS's kernels for another

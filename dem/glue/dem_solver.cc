@@ -294,7 +294,7 @@ RunResult run_one(const Case& c, const DemConfig& cfg, double target, ProgressRe
     std::filesystem::remove(checkpoint_path(*opt), ignored);
   }
   RunResult r = dem_result(c, out);
-  r.diagnostics.texts["simd"] = simd_target();  // the step's loops: avx512 or scalar
+  r.diagnostics.texts["simd"] = simd_target();  // the step's loops: scalar, avx2, avx512, ...
   add_run_notes(c, cfg, out, target, progress, tag, checkpoints, r);
   return r;
 }

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -366,20 +367,33 @@ packing_cache = ""
   fs::remove_all(dir);
 }
 
-// GRAINLIFT_SIMD chooses the DEM's vector target: every target this build and CPU run
-// (scalar always, avx512 where the CPU has AVX-512F) gives the same forces bit for bit (the
-// step's contract), and summary.json and /diagnostics name the one used; a target that is not
-// there (avx2 has no kernels yet) refuses the run with exit 1 and the targets there are.
+// GRAINLIFT_SIMD chooses the DEM's vector target: every target this build and CPU run, as
+// `grainlift --version` lists them (scalar always; avx2 and avx512 on an x86 CPU with them;
+// neon, sve, ... on Arm), gives the same forces bit for bit as the scalar code (the step's
+// contract), and summary.json and /diagnostics name the one used; a target that is not there
+// (neon on x86, avx2 elsewhere) refuses the run with exit 1 and names the targets there are.
 TEST(EndToEnd, EverySimdTargetGivesTheSameBitsAndIsNamed) {
   const fs::path d = scratch();
   std::ofstream(d / "tiny.toml") << tiny_case;
   const std::string runs = "run " + (d / "tiny.toml").string() + " --solver dem --quiet --out ";
   std::string out;
   ASSERT_EQ(run("--version", &out), 0) << out;
-  const bool avx512 = out.find("scalar, avx512") != std::string::npos;
-  std::vector<std::string> targets = {"scalar"};
-  if (avx512) targets.push_back("avx512");
-  std::vector<double> reference;
+  // "DEM SIMD: avx512 (this build and CPU: scalar, avx2, avx512; GRAINLIFT_SIMD chooses one)"
+  const std::string head = "this build and CPU: ";
+  const std::size_t from = out.find(head);
+  ASSERT_NE(from, std::string::npos) << out;
+  const std::string list = out.substr(from + head.size(),
+                                      out.find_first_of(";(", from) - from - head.size());
+  std::vector<std::string> targets;
+  std::istringstream names(list);
+  for (std::string t; std::getline(names, t, ',');) {
+    t.erase(0, t.find_first_not_of(' '));
+    t.erase(t.find_last_not_of(' ') + 1);
+    if (!t.empty()) targets.push_back(t);
+  }
+  ASSERT_FALSE(targets.empty()) << out;
+  EXPECT_EQ(targets.front(), "scalar") << out;  // the reference, run first
+  std::vector<double> reference_fx, reference_fy;
   for (const std::string& t : targets) {
     const fs::path o = d / ("simd_" + t);
     const auto ran = test_support::run_command("env GRAINLIFT_SIMD=" + t + " " +
@@ -391,14 +405,23 @@ TEST(EndToEnd, EverySimdTargetGivesTheSameBitsAndIsNamed) {
     std::ifstream js(o / "summary.json");
     const std::string json((std::istreambuf_iterator<char>(js)), {});
     EXPECT_NE(json.find("\"simd\": \"" + t + "\""), std::string::npos) << json;
-    if (reference.empty()) reference = r.forces->fx;
-    else EXPECT_EQ(r.forces->fx, reference) << t << " against scalar";
+    if (reference_fx.empty()) {
+      reference_fx = r.forces->fx;
+      reference_fy = r.forces->fy;
+    } else {
+      EXPECT_EQ(r.forces->fx, reference_fx) << t << " against scalar";
+      EXPECT_EQ(r.forces->fy, reference_fy) << t << " against scalar";
+    }
   }
-  const auto refused = test_support::run_command("env GRAINLIFT_SIMD=avx2 " +
+  std::printf("targets run: %s\n", list.c_str());
+  const bool has_neon = std::find(targets.begin(), targets.end(), "neon") != targets.end();
+  const std::string absent = has_neon ? "avx2" : "neon";
+  const auto refused = test_support::run_command("env GRAINLIFT_SIMD=" + absent + " " +
                                                   std::string(GRAINLIFT_BINARY) + " " + runs +
-                                                  (d / "simd_avx2").string());
+                                                  (d / ("simd_" + absent)).string());
   EXPECT_EQ(refused.code, 1) << refused.output;
-  EXPECT_NE(refused.output.find("GRAINLIFT_SIMD=avx2: the DEM's vector targets here are scalar"),
+  EXPECT_NE(refused.output.find("GRAINLIFT_SIMD=" + absent +
+                                ": the DEM's vector targets here are " + list),
             std::string::npos)
       << refused.output;
   fs::remove_all(d);

@@ -6,10 +6,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 #include "grainlift/dem/contact/contact_law.h"
 #include "grainlift/dem/contact/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
+#include "grainlift/dem/step/vector_kernels.h"
 
 namespace gd = grainlift::dem;
 
@@ -138,11 +140,8 @@ TEST(ContactLaw, RefusesBadParameters) {
   EXPECT_THROW(gd::LawCoefficients::from(g), gd::ConfigError);
 }
 
-// The batched law (contact_law_batch.h; AVX-512 where the CPU has it) gives the bits of
-// contact_force() contact by contact: random contacts that stick and slip, springs of zero
-// length, a law without tangential spring (kt = 0: the slip truncation sets s = 0), both laws,
-// full and short batches.
-TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
+/// One pass of ContactLaw.BatchGivesTheBitsOfContactForce on the SIMD target in use.
+static void batch_matches_contact_force() {
   std::uint64_t state = 12345;
   auto uniform = [&state](double lo, double hi) {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -194,8 +193,22 @@ TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
   EXPECT_GT(slipping, 1000);  // both branches of the Coulomb cut are exercised
   EXPECT_GT(sticking, 1000);
   std::printf("slipping %ld, sticking %ld\n", slipping, sticking);
-  std::printf("contact_force_batch vectorised for Kumar's law on this CPU: %s\n",
-              gd::contact_force_batch_vectorized(gd::LawCoefficients::from(gd::ContactParams{}))
-                  ? "yes"
-                  : "no");
+}
+
+// The batched law (contact_law_batch.h; vector lanes on every SIMD target this build and CPU
+// run, scalar among them) gives the bits of contact_force() contact by contact: random
+// contacts that stick and slip, springs of zero length, a law without tangential spring
+// (kt = 0: the slip truncation sets s = 0), both laws, full and short batches.
+TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
+  const std::string before = gd::simd_target();
+  for (const std::string& target : gd::runnable_simd_targets()) {
+    SCOPED_TRACE(target);
+    ASSERT_TRUE(gd::set_simd_target(target));
+    batch_matches_contact_force();
+    std::printf("%s: contact_force_batch vectorised for Kumar's law: %s\n", target.c_str(),
+                gd::contact_force_batch_vectorized(gd::LawCoefficients::from(gd::ContactParams{}))
+                    ? "yes"
+                    : "no");
+  }
+  gd::set_simd_target(before);
 }

@@ -195,27 +195,44 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 
-// The vector (AVX-512) loops of the step (pair screen, kick and drift, Kumar's law) give the
-// bits of the scalar code: the same run with them forbidden, on 1 and 2 threads, gives the
-// same intruder samples, on two beds. Tolerance: exact equality.
-// (Without AVX-512 both runs are scalar.)
+// The vector loops of the step (pair screen, kick and drift, Kumar's law) give the bits of
+// the scalar code on every SIMD target this build and CPU run (avx2 and avx512 on a recent x86,
+// neon or sve on Arm): the same run with each target and with the vector loops forbidden, on
+// 1 and 2 threads, gives the same intruder samples, on two beds periodic in x, one boxed in by
+// four walls and one periodic both ways (the loops have a copy per periodicity). Tolerance:
+// exact equality. (Without a vector target only the scalar runs are made.)
 TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
   auto plain = short_seeded_case("simd");
   auto longer = longer_small_case("simd_longer");
-  std::printf("vector kernels on this CPU: %s\n", gd::vector_kernels() ? "yes" : "no");
-  for (gd::DemConfig* c : {&plain, &longer}) {
-    SCOPED_TRACE(c == &plain ? "60 d x 40 d" : "30 d x 20 d");
+  auto walled = longer_small_case("simd_walled");
+  walled.periodic_x = false;
+  walled.wall_left = walled.wall_right = true;
+  auto periodic = longer_small_case("simd_periodic");
+  periodic.periodic_y = true;
+  periodic.wall_top = periodic.wall_bottom = false;
+  const std::string before = gd::simd_target();
+  std::vector<std::string> targets = gd::runnable_simd_targets();
+  targets.erase(targets.begin());  // "scalar", the reference
+  std::printf("vector targets on this CPU: %zu\n", targets.size());
+  for (gd::DemConfig* c : {&plain, &longer, &walled, &periodic}) {
+    SCOPED_TRACE(c == &plain ? "60 d x 40 d" : c == &longer ? "30 d x 20 d" : c == &walled
+                                                                  ? "walled"
+                                                                  : "periodic x and y");
     for (int threads : {1, 2}) {
       c->threads = threads;
-      gd::set_vector_kernels(true);
-      const auto vec = gd::run_simulation(*c);
       gd::set_vector_kernels(false);
       const auto scalar = gd::run_simulation(*c);
       gd::set_vector_kernels(true);
-      expect_same_samples(vec, scalar);
+      for (const std::string& t : targets) {
+        SCOPED_TRACE(t);
+        ASSERT_TRUE(gd::set_simd_target(t));
+        EXPECT_EQ(gd::simd_target(), t);  // the code the dispatch calls names itself so
+        expect_same_samples(gd::run_simulation(*c), scalar);
+      }
     }
     std::filesystem::remove_all(c->packing_cache_dir);
   }
+  gd::set_simd_target(before);
 }
 
 // Physics: with mu = 0 between grains the Coulomb cap makes every tangential force zero, so

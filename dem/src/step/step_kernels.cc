@@ -1,205 +1,267 @@
-// Compiled with -ffp-contract=off (dem/CMakeLists.txt): no fused multiply-add may change a
-// bit against the scalar code of dem_system.cc.
+// The pair screen and the kick of the step (step_kernels.h), one source for every SIMD target.
+// Google Highway compiles the code between HWY_BEFORE_NAMESPACE and HWY_AFTER_NAMESPACE once
+// per target (foreach_target.h includes this file again for each, into its own namespace);
+// HWY_DYNAMIC_DISPATCH calls the target simd_target.cc chose. The part under HWY_ONCE, compiled
+// once, holds the scalar code (the reference) and the entry points.
+// Bits: compiled with -ffp-contract=off (dem/CMakeLists.txt), no fused multiply-add; the
+// vector code uses only operations that are exact or rounded once as in IEEE arithmetic (add,
+// subtract, multiply, ordered compares, selects, bit operations), lane by lane in the order of
+// the scalar code, so each lane gives the bits of the scalar loop.
 #include "step/step_kernels.h"
 
-#include <atomic>
-
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
-#include <string>
 
-#include "grainlift/dem/step/vector_kernels.h"
+#include "step/pair_screen.h"
+#include "step/simd_target.h"
 
-#if defined(__x86_64__) && defined(__GNUC__)
-// GCC 12 warns inside its own AVX-512 headers (the undefined source of unmasked intrinsics)
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#include <immintrin.h>
-#define GRAINLIFT_AVX512 1
-#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "step/step_kernels.cc"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep (before highway.h)
+#include <hwy/highway.h>
 
+HWY_BEFORE_NAMESPACE();
 namespace grainlift::dem::detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
 
+#if GRAINLIFT_DOUBLE_LANES
 namespace {
-// Every k is written, the count advances only for touching pairs (a touching pair is rare
-// and unpredictable). The minimum image subtracts l, -l or +0.0 (d - 0.0 is d, d - (-l) is
-// d + l): the bits of PeriodicBox::min_image. One copy per periodicity (no image code along
-// a wall direction).
-template <bool kPx, bool kPy>
-std::size_t screen(const PeriodicBox& box, const int* owner, const int* partner,
-                   const double* x, const double* y, const double* r, std::int64_t k0,
-                   std::int64_t k1, std::int64_t* out) {
-  const double lx = box.lx(), ly = box.ly();
-  const double hx = 0.5 * lx, hy = 0.5 * ly;
-  std::size_t n = 0;
-#pragma GCC unroll 2
-  for (std::int64_t k = k0; k < k1; ++k) {
-    const int i = owner[k], j = partner[k];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    if (kPx) dx -= dx > hx ? lx : (dx < -hx ? -lx : 0.0);
-    if (kPy) dy -= dy > hy ? ly : (dy < -hy ? -ly : 0.0);
-    const double rs = r[i] + r[j];
-    out[n] = k;
-    n += dx * dx + dy * dy < rs * rs ? 1 : 0;
-  }
-  return n;
-}
-}  // namespace
 
-#ifdef GRAINLIFT_AVX512
-namespace {
-// Eight pairs per iteration: x and y of the partners gathered; those of the owners (sorted,
-// usually fewer than eight distinct rows) loaded and permuted; (r_i + r_j)^2 from rs2. The
-// same operations lane by lane as screen(), and a compress-store of the touching indices.
-template <bool kPx, bool kPy>
-__attribute__((target("avx512f"))) std::size_t screen_avx512(
-    const PeriodicBox& box, const int* owner, const int* partner, const double* x,
-    const double* y, const double* rs2, int n_total, std::int64_t k0, std::int64_t k1,
-    std::int64_t* out) {
-  const double lxs = box.lx(), lys = box.ly();
-  const __m512d lx = _mm512_set1_pd(lxs), nlx = _mm512_set1_pd(-lxs);
-  const __m512d ly = _mm512_set1_pd(lys), nly = _mm512_set1_pd(-lys);
-  const __m512d hx = _mm512_set1_pd(0.5 * lxs), nhx = _mm512_set1_pd(-(0.5 * lxs));
-  const __m512d hy = _mm512_set1_pd(0.5 * lys), nhy = _mm512_set1_pd(-(0.5 * lys));
-  const __m512d zero = _mm512_setzero_pd();
-  const __m512i step = _mm512_set1_epi64(8);
-  __m512i kv = _mm512_add_epi64(_mm512_set1_epi64(k0), _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0));
-  std::size_t n = 0;
-  std::int64_t k = k0;
-  for (; k + 8 <= k1; k += 8) {
-    const __m256i vi = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(owner + k));
-    const __m256i vj = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(partner + k));
-    const int i0 = owner[k];
-    __m512d xi, yi;
-    if (owner[k + 7] - i0 < 8 && i0 + 8 <= n_total) {
-      const __m512i rel = _mm512_cvtepi32_epi64(_mm256_sub_epi32(vi, _mm256_set1_epi32(i0)));
-      xi = _mm512_permutexvar_pd(rel, _mm512_loadu_pd(x + i0));
-      yi = _mm512_permutexvar_pd(rel, _mm512_loadu_pd(y + i0));
-    } else {
-      xi = _mm512_i32gather_pd(vi, x, 8);
-      yi = _mm512_i32gather_pd(vi, y, 8);
-    }
-    __m512d dx = _mm512_sub_pd(xi, _mm512_i32gather_pd(vj, x, 8));
-    __m512d dy = _mm512_sub_pd(yi, _mm512_i32gather_pd(vj, y, 8));
-    if (kPx) {
-      const __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, nhx, _CMP_LT_OQ), zero, nlx);
-      dx = _mm512_sub_pd(dx, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, hx, _CMP_GT_OQ), s, lx));
-    }
-    if (kPy) {
-      const __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, nhy, _CMP_LT_OQ), zero, nly);
-      dy = _mm512_sub_pd(dy, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, hy, _CMP_GT_OQ), s, ly));
-    }
-    const __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-    const __mmask8 touch = _mm512_cmp_pd_mask(d2, _mm512_loadu_pd(rs2 + k), _CMP_LT_OQ);
-    if (touch) {
-      _mm512_mask_compressstoreu_epi64(out + n, touch, kv);
-      n += static_cast<std::size_t>(__builtin_popcount(touch));
-    }
-    kv = _mm512_add_epi64(kv, step);
-  }
-  // the last pairs (fewer than eight) one by one, with rs2 as well
-  const double hxs = 0.5 * lxs, hys = 0.5 * lys;
-  for (; k < k1; ++k) {
-    const int i = owner[k], j = partner[k];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    if (kPx) dx -= dx > hxs ? lxs : (dx < -hxs ? -lxs : 0.0);
-    if (kPy) dy -= dy > hys ? lys : (dy < -hys ? -lys : 0.0);
-    out[n] = k;
-    n += dx * dx + dy * dy < rs2[k] ? 1 : 0;
-  }
-  return n;
-}
-}  // namespace
-#endif
+// At most eight lanes (AVX-512: eight, AVX2: four, NEON: two, SVE: as many as the CPU has up
+// to eight): the kick takes grains in groups of eight, the flags of a group as one word.
+using D = hn::CappedTag<double, 8>;
+using V = hn::Vec<D>;
+using DI = hn::RebindToSigned<D>;    // 64-bit integers: pair indices
+using DU = hn::RebindToUnsigned<D>;  // the bits of a double
 
-std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
-                         const double* x, const double* y, const double* r, const double* rs2,
-                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out) {
-#ifdef GRAINLIFT_AVX512
-  if (rs2 != nullptr && avx512_enabled()) {
-    if (box.periodic_x) {
-      return box.periodic_y
-                 ? screen_avx512<true, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
-                 : screen_avx512<true, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
-    }
-    return box.periodic_y
-               ? screen_avx512<false, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
-               : screen_avx512<false, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
-  }
+/// v - (l where above, -l where below, +0.0 elsewhere): PeriodicBox::wrap and min_image lane
+/// by lane, bit for bit (x - (-l) is x + l, and x - (+0.0) is x, -0.0 included).
+template <class M>
+HWY_INLINE V shift(D d, V v, M above, M below, V l, V neg_l) {
+  return hn::Sub(v, hn::IfThenElse(above, l, hn::IfThenElse(below, neg_l, hn::Zero(d))));
+}
+
+/// x[index] lane by lane for the pair list's 32-bit indices (all >= 0). Two things of
+/// Highway 1.0's GatherIndex cost the pair screen of a dilute bed 18% against the hand-written
+/// AVX-512 loop it replaces: it takes only 64-bit indices (widened first), and on x86 it leaves
+/// the register the gather merges into to the compiler, which may pick one that still waits
+/// for the previous vector's arithmetic, so that successive gathers wait for each other. On x86
+/// therefore the gather of 32-bit indices, masked by index >= 0 (every lane: a mask the
+/// compiler cannot fold away) into a zeroed register, which depends on nothing; elsewhere the
+/// widened indices and Highway's gather.
+HWY_INLINE V gather32(D d, const double* base, hn::Vec<hn::Rebind<std::int32_t, D>> index) {
+  const hn::Rebind<std::int32_t, D> d32;
+#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
+  (void)d;
+  const auto valid = hn::Gt(index, hn::Set(d32, -1));
+  return V{_mm512_mask_i32gather_pd(_mm512_setzero_pd(), valid.raw, index.raw, base, 8)};
+#elif HWY_TARGET == HWY_AVX2
+  (void)d32;
+  const DI di;
+  const auto valid = hn::VecFromMask(di, hn::Gt(hn::PromoteTo(di, index), hn::Set(di, -1)));
+  return V{_mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index.raw,
+                                    hn::BitCast(d, valid).raw, 8)};
 #else
-  (void)rs2;
-  (void)n_total;
+  (void)d32;
+  return hn::GatherIndex(d, base, hn::PromoteTo(DI(), index));
 #endif
-  if (box.periodic_x) {
-    return box.periodic_y ? screen<true, true>(box, owner, partner, x, y, r, k0, k1, out)
-                          : screen<true, false>(box, owner, partner, x, y, r, k0, k1, out);
-  }
-  return box.periodic_y ? screen<false, true>(box, owner, partner, x, y, r, k0, k1, out)
-                        : screen<false, false>(box, owner, partner, x, y, r, k0, k1, out);
 }
 
-#ifdef GRAINLIFT_AVX512
-namespace {
+/// For each mask of up to eight lanes (bit j: lane j), its set lanes in increasing order, then
+/// zeros. The indices of the touching pairs are compressed with it: Highway 1.0's Compress of
+/// 64-bit lanes builds its own larger table on the stack at every call under GCC, and the
+/// memory form of AVX-512's compress is slow on some CPUs.
+struct SetLanes {
+  std::uint8_t lane[256][8];
+};
+constexpr SetLanes make_set_lanes() {
+  SetLanes t{};
+  for (int m = 0; m < 256; ++m) {
+    int n = 0;
+    for (int j = 0; j < 8; ++j) {
+      if ((m >> j) & 1) t.lane[m][n++] = static_cast<std::uint8_t>(j);
+    }
+  }
+  return t;
+}
+constexpr SetLanes kSetLanes = make_set_lanes();
 
-const bool kHaveAvx512 = __builtin_cpu_supports("avx512f");
-
-/// Stores the lanes of @p v whose bits differ from @p old at @p p (no dirty cache line for
-/// the lanes that keep their value).
-__attribute__((target("avx512f"))) inline void store_changed(double* p, __m512d v, __m512d old) {
-  _mm512_mask_storeu_pd(
-      p, _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(v), _mm512_castpd_si512(old)), v);
+/// screen_pairs() with rs2 on this target: pairs [k0, k1) a vector at a time, with the
+/// operations of screen_scalar() (pair_screen.h): x and y of the partners gathered, those of
+/// the owners (sorted: usually fewer distinct rows than lanes) loaded once and permuted;
+/// (r_i + r_j)^2 from rs2. The indices of the touching pairs are compressed into out. The last
+/// pairs (fewer than a vector) by screen_scalar(). Returns the number of touching pairs.
+template <bool kPx, bool kPy>
+std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* rs2, int n_total,
+                         std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+  const D d;
+  const DI di;
+  const hn::Rebind<std::int32_t, D> d32;
+  const hn::Rebind<std::uint32_t, D> du32;
+  const hn::Rebind<std::uint8_t, D> du8;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  const double lxs = box.lx(), lys = box.ly();
+  const V lx = hn::Set(d, lxs), nlx = hn::Set(d, -lxs);
+  const V ly = hn::Set(d, lys), nly = hn::Set(d, -lys);
+  const V hx = hn::Set(d, 0.5 * lxs), nhx = hn::Set(d, -(0.5 * lxs));
+  const V hy = hn::Set(d, 0.5 * lys), nhy = hn::Set(d, -(0.5 * lys));
+  std::size_t count = 0;
+  std::int64_t k = k0;
+  for (; k + lanes <= k1; k += lanes) {
+    // both index vectors first: a gather is a long run of loads (microcode on some CPUs), and
+    // the partners' indices should not wait behind the owners' gathers
+    const auto vi = hn::LoadU(d32, owner + k);
+    const auto vj = hn::LoadU(d32, partner + k);
+    const int i0 = owner[k];
+    V xi, yi;
+    if (owner[k + lanes - 1] - i0 < lanes && i0 + lanes <= n_total) {
+      const auto rel = hn::IndicesFromVec(d, hn::PromoteTo(di, hn::Sub(vi, hn::Set(d32, i0))));
+      xi = hn::TableLookupLanes(hn::LoadU(d, x + i0), rel);
+      yi = hn::TableLookupLanes(hn::LoadU(d, y + i0), rel);
+    } else {
+      xi = gather32(d, x, vi);
+      yi = gather32(d, y, vi);
+    }
+    V dx = hn::Sub(xi, gather32(d, x, vj));
+    V dy = hn::Sub(yi, gather32(d, y, vj));
+    if (kPx) dx = shift(d, dx, hn::Gt(dx, hx), hn::Lt(dx, nhx), lx, nlx);
+    if (kPy) dy = shift(d, dy, hn::Gt(dy, hy), hn::Lt(dy, nhy), ly, nly);
+    const V d2 = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+    const auto touch = hn::Lt(d2, hn::LoadU(d, rs2 + k));
+    if (!hn::AllFalse(d, touch)) {
+      // k plus the touching lanes first, then whatever: a whole vector stored (out has room
+      // for it), the count advanced by the touching pairs
+      std::uint8_t bits[8] = {};
+      hn::StoreMaskBits(d, touch, bits);
+      const auto set = hn::PromoteTo(hn::RebindToUnsigned<DI>(),
+                                     hn::PromoteTo(du32, hn::LoadU(du8, kSetLanes.lane[bits[0]])));
+      hn::StoreU(hn::Add(hn::Set(di, k), hn::BitCast(di, set)), di, out + count);
+      count += hn::CountTrue(d, touch);
+    }
+  }
+  return count + screen_scalar<kPx, kPy, true>(box, owner, partner, x, y, nullptr, rs2, k, k1,
+                                               out + count);
 }
 
-/// PeriodicBox::wrap and min_image on eight lanes, bit for bit.
-struct BoxLanes {
-  __m512d wlx, wly, nwlx, nwly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
-  __attribute__((target("avx512f"))) explicit BoxLanes(const PeriodicBox& b) {
-    // wrap: subtract l when x >= max, -l when x < min, +0.0 otherwise
-    wlx = _mm512_set1_pd(b.periodic_x ? b.lx() : 0.0);
-    wly = _mm512_set1_pd(b.periodic_y ? b.ly() : 0.0);
-    nwlx = _mm512_set1_pd(b.periodic_x ? -b.lx() : 0.0);
-    nwly = _mm512_set1_pd(b.periodic_y ? -b.ly() : 0.0);
-    xmax = _mm512_set1_pd(b.periodic_x ? b.xmax : HUGE_VAL);
-    xmin = _mm512_set1_pd(b.periodic_x ? b.xmin : -HUGE_VAL);
-    ymax = _mm512_set1_pd(b.periodic_y ? b.ymax : HUGE_VAL);
-    ymin = _mm512_set1_pd(b.periodic_y ? b.ymin : -HUGE_VAL);
-    // minimum image: dx > l/2 subtracts l, dx < -l/2 adds it
-    hx = _mm512_set1_pd(b.periodic_x ? 0.5 * b.lx() : HUGE_VAL);
-    hy = _mm512_set1_pd(b.periodic_y ? 0.5 * b.ly() : HUGE_VAL);
-    nhx = _mm512_set1_pd(b.periodic_x ? -(0.5 * b.lx()) : -HUGE_VAL);
-    nhy = _mm512_set1_pd(b.periodic_y ? -(0.5 * b.ly()) : -HUGE_VAL);
-  }
-  __attribute__((target("avx512f"))) void wrap(__m512d& x, __m512d& y) const {
-    const __m512d zero = _mm512_setzero_pd();
-    __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmin, _CMP_LT_OQ), zero, nwlx);
-    x = _mm512_sub_pd(x, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, xmax, _CMP_GE_OQ), s, wlx));
-    s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymin, _CMP_LT_OQ), zero, nwly);
-    y = _mm512_sub_pd(y, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(y, ymax, _CMP_GE_OQ), s, wly));
-  }
-  __attribute__((target("avx512f"))) void min_image(__m512d& dx, __m512d& dy) const {
-    const __m512d zero = _mm512_setzero_pd();
-    __m512d s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, nhx, _CMP_LT_OQ), zero, nwlx);
-    dx = _mm512_sub_pd(dx, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dx, hx, _CMP_GT_OQ), s, wlx));
-    s = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, nhy, _CMP_LT_OQ), zero, nwly);
-    dy = _mm512_sub_pd(dy, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(dy, hy, _CMP_GT_OQ), s, wly));
-  }
+/// Stores the lanes of @p v whose bits differ from @p old at @p p (a lane that keeps its
+/// value is not written: no dirty cache line for it).
+HWY_INLINE void store_changed(D d, V v, V old, double* p) {
+  const DU du;
+  hn::BlendedStore(v, hn::RebindMask(d, hn::Ne(hn::BitCast(du, v), hn::BitCast(du, old))), d, p);
+}
+
+/// The lanes whose byte at @p p is not zero.
+HWY_INLINE hn::Mask<D> nonzero_bytes(D d, const std::uint8_t* p) {
+  const DU du;
+  const hn::Rebind<std::uint32_t, D> du32;
+  const hn::Rebind<std::uint8_t, D> du8;
+  const auto wide = hn::PromoteTo(du, hn::PromoteTo(du32, hn::LoadU(du8, p)));
+  return hn::RebindMask(d, hn::Ne(wide, hn::Zero(du)));
+}
+
+/// PeriodicBox::wrap and min_image's constants, for the periodic directions.
+struct BoxShifts {
+  double lx, ly, nlx, nly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
+  explicit BoxShifts(const PeriodicBox& b)
+      : lx(b.lx()), ly(b.ly()), nlx(-b.lx()), nly(-b.ly()), xmax(b.xmax), xmin(b.xmin),
+        ymax(b.ymax), ymin(b.ymin), hx(0.5 * b.lx()), hy(0.5 * b.ly()), nhx(-(0.5 * b.lx())),
+        nhy(-(0.5 * b.ly())) {}
 };
 
-template <bool kDrift>
-__attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, int hi,
-                                                   double& max_d2) {
-  const BoxLanes box(k.box);
-  const __m512d zero = _mm512_setzero_pd();
-  const __m512d dt = _mm512_set1_pd(k.dt), damp = _mm512_set1_pd(k.damp);
+/// The accelerations of the grains [r, r + lanes) from their pair-force sums (finish_impl's
+/// general branch; none of them touches the intruder), stored where a bit changes; the sums of
+/// the touched grains zeroed for the next step. Returns h a in (kx, ky, kw). An untouched lane
+/// has sums +0.0 and gets exactly a0 from the same expressions.
+HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V h, V& kx,
+                           V& ky, V& kw) {
+  const V fx = hn::LoadU(d, k.sfx + r), fy = hn::LoadU(d, k.sfy + r);
+  const V qs = hn::LoadU(d, k.sq + r);
+  const V inv_m = hn::LoadU(d, k.inv_m + r);
+  // tq = -r qs (the sign of r flipped, as unary minus on a double, then the product)
+  const V mr = hn::Xor(hn::LoadU(d, k.r + r), hn::SignBit(d));
+  const V axn = hn::Add(hn::Mul(fx, inv_m), gx);
+  const V ayn = hn::Add(hn::Mul(fy, inv_m), gy);
+  const V aln = hn::Mul(hn::Mul(mr, qs), hn::LoadU(d, k.inv_i + r));
+  store_changed(d, axn, hn::LoadU(d, k.ax + r), k.ax + r);
+  store_changed(d, ayn, hn::LoadU(d, k.ay + r), k.ay + r);
+  store_changed(d, aln, hn::LoadU(d, k.al + r), k.al + r);
+  const auto touched = nonzero_bytes(d, k.touched + r);
+  hn::BlendedStore(hn::Zero(d), touched, d, k.sfx + r);
+  hn::BlendedStore(hn::Zero(d), touched, d, k.sfy + r);
+  hn::BlendedStore(hn::Zero(d), touched, d, k.sq + r);
+  kx = hn::Mul(h, axn);
+  ky = hn::Mul(h, ayn);
+  kw = hn::Mul(h, aln);
+}
+
+/// The second half kick v(t+dt) = (v + h a) damp of the grains [r, r + lanes), h a given as
+/// (kx, ky, kw); with kDrift also the next step's half kick and drift, the largest squared
+/// displacement since the list build kept in @p md2 lane by lane. One copy per periodicity
+/// (kPx, kPy): no image code along a wall direction, where PeriodicBox changes nothing.
+template <bool kDrift, bool kPx, bool kPy>
+HWY_INLINE void kick_lanes(D d, const PlainKick& k, const BoxShifts& b, std::size_t r, V dt,
+                           V damp, V kx, V ky, V kw, V& md2) {
+  const V vx0 = hn::LoadU(d, k.vx + r), vy0 = hn::LoadU(d, k.vy + r);
+  const V w0 = hn::LoadU(d, k.w + r);
+  V vx = hn::Mul(hn::Add(vx0, kx), damp);
+  V vy = hn::Mul(hn::Add(vy0, ky), damp);
+  V w = hn::Mul(hn::Add(w0, kw), damp);
+  if (kDrift) {
+    vx = hn::Add(vx, kx);
+    vy = hn::Add(vy, ky);
+    w = hn::Add(w, kw);
+    const V x0 = hn::LoadU(d, k.x + r), y0 = hn::LoadU(d, k.y + r);
+    V x = hn::Add(x0, hn::Mul(dt, vx));
+    V y = hn::Add(y0, hn::Mul(dt, vy));
+    // wrap: subtract l when x >= max, -l when x < min
+    if (kPx) {
+      x = shift(d, x, hn::Ge(x, hn::Set(d, b.xmax)), hn::Lt(x, hn::Set(d, b.xmin)),
+                hn::Set(d, b.lx), hn::Set(d, b.nlx));
+    }
+    if (kPy) {
+      y = shift(d, y, hn::Ge(y, hn::Set(d, b.ymax)), hn::Lt(y, hn::Set(d, b.ymin)),
+                hn::Set(d, b.ly), hn::Set(d, b.nly));
+    }
+    // positions too are stored only where a bit changes
+    store_changed(d, x, x0, k.x + r);
+    store_changed(d, y, y0, k.y + r);
+    const hn::Rebind<float, D> df;
+    V dx = hn::Sub(x, hn::PromoteTo(d, hn::LoadU(df, k.xb + r)));
+    V dy = hn::Sub(y, hn::PromoteTo(d, hn::LoadU(df, k.yb + r)));
+    // minimum image: dx > l/2 subtracts l, dx < -l/2 adds it
+    if (kPx) {
+      dx = shift(d, dx, hn::Gt(dx, hn::Set(d, b.hx)), hn::Lt(dx, hn::Set(d, b.nhx)),
+                 hn::Set(d, b.lx), hn::Set(d, b.nlx));
+    }
+    if (kPy) {
+      dy = shift(d, dy, hn::Gt(dy, hn::Set(d, b.hy)), hn::Lt(dy, hn::Set(d, b.nhy)),
+                 hn::Set(d, b.ly), hn::Set(d, b.nly));
+    }
+    const V d2 = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+    md2 = hn::IfThenElse(hn::Gt(d2, md2), d2, md2);  // a NaN d2 is ignored, as by the scalar test
+  }
+  // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
+  store_changed(d, vx, vx0, k.vx + r);
+  store_changed(d, vy, vy0, k.vy + r);
+  store_changed(d, w, w0, k.w + r);
+}
+
+/// kick_plain() on this target: groups of eight grains, each a vector (or several) at a time.
+template <bool kDrift, bool kPx, bool kPy>
+int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
+  const D d;
+  const std::size_t lanes = hn::Lanes(d);
+  const BoxShifts box(k.box);
   // h a0, as the scalar code computes it for each grain
-  const __m512d hax = _mm512_set1_pd(k.h * k.ax0), hay = _mm512_set1_pd(k.h * k.ay0);
-  const __m512d hal = _mm512_set1_pd(k.h * k.al0);
-  const __m512d h = _mm512_set1_pd(k.h);
-  const __m512d gx = _mm512_set1_pd(k.gx), gy = _mm512_set1_pd(k.gy);
-  const __m512i sign = _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ULL));
+  const V hax = hn::Set(d, k.h * k.ax0), hay = hn::Set(d, k.h * k.ay0);
+  const V hal = hn::Set(d, k.h * k.al0);
+  // the constants as locals: the compiler keeps them in registers across the stores
+  const V gx = hn::Set(d, k.gx), gy = hn::Set(d, k.gy), h = hn::Set(d, k.h);
+  const V dt = hn::Set(d, k.dt), damp = hn::Set(d, k.damp);
   constexpr std::uint64_t kOnes = 0x0101010101010101ULL;
-  __m512d md2 = _mm512_set1_pd(max_d2);
+  V md2 = hn::Set(d, max_d2);
   for (; i + 8 <= hi; i += 8) {
     std::uint64_t f, t;
     if (k.dormant) {
@@ -210,146 +272,111 @@ __attribute__((target("avx512f"))) int kick_avx512(const PlainKick& k, int i, in
     }
     std::memcpy(&f, k.flags + i, 8);
     std::memcpy(&t, k.touched + i, 8);
-    __m512d kx = hax, ky = hay, kw = hal;  // h a of each lane
-    if (f | t) {
-      // Grains with pair forces summed in sfx, sfy, sq, none touching the intruder: the
-      // accelerations of finish_impl's general branch. An untouched lane has sums +0.0 and
-      // gets exactly a0 from the same expressions.
+    // grains with pair forces summed in sfx, sfy, sq, none touching the intruder
+    const bool forces = (f | t) != 0;
+    if (forces) {
       if (f & (kOnes * k.candidate_bit)) break;
       if (k.shared) {
         std::uint64_t sh;
         std::memcpy(&sh, k.shared + i, 8);
         if (sh & t) break;  // a touched shared grain: its sum is gathered (finish_impl)
       }
-      const __m512d fx = _mm512_loadu_pd(k.sfx + i), fy = _mm512_loadu_pd(k.sfy + i);
-      const __m512d qs = _mm512_loadu_pd(k.sq + i);
-      const __m512d inv_m = _mm512_loadu_pd(k.inv_m + i);
-      // tq = -r qs (unary minus of r, then the product)
-      const __m512d mr = _mm512_castsi512_pd(
-          _mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(k.r + i)), sign));
-      __m512d axn = _mm512_add_pd(_mm512_mul_pd(fx, inv_m), gx);
-      __m512d ayn = _mm512_add_pd(_mm512_mul_pd(fy, inv_m), gy);
-      __m512d aln = _mm512_mul_pd(_mm512_mul_pd(mr, qs), _mm512_loadu_pd(k.inv_i + i));
-      const __m512d ax0 = _mm512_loadu_pd(k.ax + i), ay0 = _mm512_loadu_pd(k.ay + i);
-      const __m512d al0 = _mm512_loadu_pd(k.al + i);
-      store_changed(k.ax + i, axn, ax0);
-      store_changed(k.ay + i, ayn, ay0);
-      store_changed(k.al + i, aln, al0);
-      // sums of the touched lanes zeroed for the next step; touched cleared; the flag
-      // "accelerations set" on exactly the touched lanes (no lane is a candidate)
-      const __mmask8 touched =
-          _mm512_test_epi64_mask(_mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(t))),
-                                 _mm512_set1_epi64(0xff));
-      _mm512_mask_storeu_pd(k.sfx + i, touched, zero);
-      _mm512_mask_storeu_pd(k.sfy + i, touched, zero);
-      _mm512_mask_storeu_pd(k.sq + i, touched, zero);
-      // (a sleeper is never touched and has no flag, as sleeping.cc lets no grain with
-      // "accelerations set" sleep)
-      const std::uint64_t nf = t * k.accel_bit;
-      const std::uint64_t nt = 0;
+    }
+    for (std::size_t o = 0; o < 8; o += lanes) {
+      const std::size_t r = static_cast<std::size_t>(i) + o;
+      V kx = hax, ky = hay, kw = hal;  // h a of each lane
+      if (forces) accelerate(d, k, r, gx, gy, h, kx, ky, kw);
+      kick_lanes<kDrift, kPx, kPy>(d, k, box, r, dt, damp, kx, ky, kw, md2);
+    }
+    if (forces) {
+      // touched cleared; the flag "accelerations set" on exactly the touched grains (no grain
+      // is a candidate; a sleeper is never touched and has no flag, as sleeping.cc lets no
+      // grain with "accelerations set" sleep)
+      const std::uint64_t nf = t * k.accel_bit, nt = 0;
       std::memcpy(k.flags + i, &nf, 8);
       std::memcpy(k.touched + i, &nt, 8);
-      kx = _mm512_mul_pd(h, axn);
-      ky = _mm512_mul_pd(h, ayn);
-      kw = _mm512_mul_pd(h, aln);
     }
-    // second half kick: v(t+dt) = (v + h a) damp
-    const __m512d vx0 = _mm512_loadu_pd(k.vx + i), vy0 = _mm512_loadu_pd(k.vy + i);
-    const __m512d w0 = _mm512_loadu_pd(k.w + i);
-    __m512d vx = _mm512_mul_pd(_mm512_add_pd(vx0, kx), damp);
-    __m512d vy = _mm512_mul_pd(_mm512_add_pd(vy0, ky), damp);
-    __m512d w = _mm512_mul_pd(_mm512_add_pd(w0, kw), damp);
-    if (kDrift) {
-      // the next step's half kick and drift
-      vx = _mm512_add_pd(vx, kx);
-      vy = _mm512_add_pd(vy, ky);
-      w = _mm512_add_pd(w, kw);
-      const __m512d x0 = _mm512_loadu_pd(k.x + i), y0 = _mm512_loadu_pd(k.y + i);
-      __m512d x = _mm512_add_pd(x0, _mm512_mul_pd(dt, vx));
-      __m512d y = _mm512_add_pd(y0, _mm512_mul_pd(dt, vy));
-      box.wrap(x, y);
-      // positions too are stored only where a bit changes
-      store_changed(k.x + i, x, x0);
-      store_changed(k.y + i, y, y0);
-      __m512d dx = _mm512_sub_pd(x, _mm512_cvtps_pd(_mm256_loadu_ps(k.xb + i)));
-      __m512d dy = _mm512_sub_pd(y, _mm512_cvtps_pd(_mm256_loadu_ps(k.yb + i)));
-      box.min_image(dx, dy);
-      const __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-      md2 = _mm512_max_pd(d2, md2);  // a NaN d2 is ignored, as by the scalar test
-    }
-    // a grain in free flight keeps its velocity bit for bit: no store, no dirty cache line
-    store_changed(k.vx + i, vx, vx0);
-    store_changed(k.vy + i, vy, vy0);
-    store_changed(k.w + i, w, w0);
   }
-  if (kDrift) max_d2 = _mm512_reduce_max_pd(md2);
+  if (kDrift) max_d2 = hn::GetLane(hn::MaxOfLanes(d, md2));
   return i;
 }
 
 }  // namespace
-#endif
 
-namespace {
-std::atomic<bool> g_vector_allowed{true};
-}  // namespace
+std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
+                        const double* x, const double* y, const double* rs2, int n_total,
+                        std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+  if (box.periodic_x) {
+    return box.periodic_y
+               ? screen_lanes<true, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
+               : screen_lanes<true, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
+  }
+  return box.periodic_y
+             ? screen_lanes<false, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
+             : screen_lanes<false, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
+}
 
-bool avx512_enabled() {
-#ifdef GRAINLIFT_AVX512
-  static const bool cpu = kHaveAvx512 && grainlift::dem::simd_setting_error().empty() &&
-                          requested_simd() != "scalar";
-  return cpu && g_vector_allowed.load(std::memory_order_relaxed);
+int KickLanes(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
+  if (!drift) return kick_groups<false, false, false>(k, i, hi, max_d2);  // no box code
+  if (k.box.periodic_x) {
+    return k.box.periodic_y ? kick_groups<true, true, true>(k, i, hi, max_d2)
+                            : kick_groups<true, true, false>(k, i, hi, max_d2);
+  }
+  return k.box.periodic_y ? kick_groups<true, false, true>(k, i, hi, max_d2)
+                          : kick_groups<true, false, false>(k, i, hi, max_d2);
+}
 #else
-  return false;
+// no lanes of doubles here: the scalar code does everything (never chosen: simd_target.cc)
+std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
+                        const double* x, const double* y, const double* rs2, int,
+                        std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+  return box.periodic_x
+             ? (box.periodic_y ? screen_scalar<true, true, true>(box, owner, partner, x, y,
+                                                                 nullptr, rs2, k0, k1, out)
+                               : screen_scalar<true, false, true>(box, owner, partner, x, y,
+                                                                  nullptr, rs2, k0, k1, out))
+             : (box.periodic_y ? screen_scalar<false, true, true>(box, owner, partner, x, y,
+                                                                  nullptr, rs2, k0, k1, out)
+                               : screen_scalar<false, false, true>(box, owner, partner, x, y,
+                                                                   nullptr, rs2, k0, k1, out));
+}
+int KickLanes(const PlainKick&, bool, int i, int, double&) { return i; }
 #endif
-}
 
-std::string requested_simd() {
-  if (std::getenv("GRAINLIFT_NO_SIMD")) return "scalar";  // the older switch
-  const char* s = std::getenv("GRAINLIFT_SIMD");
-  return s && *s ? std::string(s) : std::string("auto");
-}
+std::int64_t KernelTarget() { return HWY_TARGET; }
 
+}  // namespace HWY_NAMESPACE
 }  // namespace grainlift::dem::detail
+HWY_AFTER_NAMESPACE();
 
-namespace grainlift::dem {
-void set_vector_kernels(bool on) { detail::g_vector_allowed.store(on, std::memory_order_relaxed); }
-bool vector_kernels() { return detail::avx512_enabled(); }
-
-std::string simd_target() { return detail::avx512_enabled() ? "avx512" : "scalar"; }
-
-std::string simd_targets() {
-#ifdef GRAINLIFT_AVX512
-  return detail::kHaveAvx512 ? "scalar, avx512"
-                              : "scalar (avx512 is built; this CPU lacks AVX-512F)";
-#else
-  return "scalar";
-#endif
-}
-
-std::string simd_setting_error() {
-  const std::string want = detail::requested_simd();
-  if (want == "auto" || want == "scalar") return {};
-#ifdef GRAINLIFT_AVX512
-  if (want == "avx512" && detail::kHaveAvx512) return {};
-#endif
-  return "GRAINLIFT_SIMD=" + want + ": the DEM's vector targets here are " + simd_targets() +
-         "; unset it (the best the CPU runs) or name one of them";
-}
-}  // namespace grainlift::dem
-
+#if HWY_ONCE
 namespace grainlift::dem::detail {
 
-int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
-#ifdef GRAINLIFT_AVX512
-  if (avx512_enabled()) {
-    return drift ? kick_avx512<true>(k, i, hi, max_d2) : kick_avx512<false>(k, i, hi, max_d2);
+HWY_EXPORT(ScreenLanes);
+HWY_EXPORT(KickLanes);
+HWY_EXPORT(KernelTarget);
+
+std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
+                         const double* x, const double* y, const double* r, const double* rs2,
+                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+  if (rs2 != nullptr && vector_enabled())
+    return HWY_DYNAMIC_DISPATCH(ScreenLanes)(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
+  if (box.periodic_x) {
+    return box.periodic_y
+               ? screen_scalar<true, true, false>(box, owner, partner, x, y, r, rs2, k0, k1, out)
+               : screen_scalar<true, false, false>(box, owner, partner, x, y, r, rs2, k0, k1, out);
   }
-#endif
-  (void)k;
-  (void)drift;
-  (void)hi;
-  (void)max_d2;
-  return i;
+  return box.periodic_y
+             ? screen_scalar<false, true, false>(box, owner, partner, x, y, r, rs2, k0, k1, out)
+             : screen_scalar<false, false, false>(box, owner, partner, x, y, r, rs2, k0, k1, out);
 }
 
+int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
+  if (!vector_enabled()) return i;
+  return HWY_DYNAMIC_DISPATCH(KickLanes)(k, drift, i, hi, max_d2);
+}
+
+std::int64_t dispatched_target() { return HWY_DYNAMIC_DISPATCH(KernelTarget)(); }
+
 }  // namespace grainlift::dem::detail
+#endif  // HWY_ONCE

@@ -1,10 +1,9 @@
 // Inner loops of the time step kept apart from DemSystem: the pair screen (pass 1 of the
-// pair loop) and the kick/drift of grains without any force (AVX-512 when the CPU has it).
-// Each vector loop does lane by lane the IEEE operations of the scalar code, in the same
-// order (this file is compiled without floating-point contraction): the same bits.
+// pair loop) and the kick/drift of grains without any force, on the vector lanes of the SIMD
+// target chosen at run time (simd_target.h; one Highway source for every target) or by the
+// scalar code. Each vector loop does lane by lane the IEEE operations of the scalar code, in
+// the same order (compiled without floating-point contraction): the same bits.
 #pragma once
-
-#include <string>
 
 #include <cstddef>
 #include <cstdint>
@@ -16,8 +15,8 @@ namespace grainlift::dem::detail {
 /// @brief Write the indices k in [k0, k1) of the pairs (owner[k], partner[k]) that touch,
 /// |x_i - x_j| < r_i + r_j (minimum image), to out in increasing order; return their number.
 /// Branch-free: out needs room for k1 - k0 + 1 entries (it writes before it counts). With
-/// rs2 (per pair (r_i + r_j)^2, computed as here) and AVX-512, eight pairs at a time;
-/// n_total: particles in x and y.
+/// rs2 (per pair (r_i + r_j)^2, computed as here) and a vector target, a vector of pairs at a
+/// time; n_total: particles in x and y.
 std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
                          const double* x, const double* y, const double* r, const double* rs2,
                          int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out);
@@ -60,18 +59,13 @@ struct PlainKick {
 /// (flags and touched 0; groups of eight sleepers are skipped), and also of grains with pair
 /// forces (summed in sfx, sfy, sq) and their accelerations; stops at the first group with a
 /// grain it does not handle (a candidate of the intruder; a touched shared grain), or fewer than
-/// eight rows before hi. Returns the row where it stopped (i itself when it did nothing or without
-/// AVX-512); max_d2 is raised to the largest squared displacement from (xb, yb) of the
-/// grains it moved (drift only).
+/// eight rows before hi. Returns the row where it stopped (i itself when it did nothing or on
+/// the scalar target); max_d2 is raised to the largest squared displacement from (xb, yb) of
+/// the grains it moved (drift only). Call it only when vector_enabled() (simd_target.h).
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2);
 
-/// @brief Whether the vector loops run (kick_plain, contact_force_batch): the CPU has
-/// AVX-512F and the environment does not ask for another target (GRAINLIFT_SIMD=scalar, or
-/// the older GRAINLIFT_NO_SIMD; checked once), and set_vector_kernels(false) was not called.
-bool avx512_enabled();
-
-/// @brief The target the environment asks for: GRAINLIFT_SIMD's value, "scalar" when
-/// GRAINLIFT_NO_SIMD is set, "auto" when neither is.
-std::string requested_simd();
+/// @brief The Highway target (HWY_AVX2, HWY_AVX3, HWY_NEON, ...) whose code the dynamic
+/// dispatch of these loops calls now, as that code reports it.
+std::int64_t dispatched_target();
 
 }  // namespace grainlift::dem::detail

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "grainlift/dem/system/dem_system.h"
+#include "step/simd_target.h"
 #include "step/step_kernels.h"
 
 namespace grainlift::dem {
@@ -102,7 +103,7 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   double maxd2 = 0;
   // Runs of eight grains without any force by the vector loop (the same operations), the
   // others one by one, a group of eight at a time.
-  const bool simd = kMode != Kick::first && detail::avx512_enabled();
+  const bool simd = kMode != Kick::first && detail::vector_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
   detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
                           dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,

@@ -85,7 +85,7 @@ JsonObject summary_object(const RunResult& r) {
   o.add("wall_seconds", r.meta.wall_seconds);
   o.add("threads", r.meta.threads);
   if (const auto it = r.diagnostics.texts.find("simd"); it != r.diagnostics.texts.end())
-    o.add("simd", it->second);  // the DEM's vector target (avx512 or scalar)
+    o.add("simd", it->second);  // the DEM's vector target (scalar, avx2, avx512, ...)
   o.add("case_hash", r.meta.case_hash);
   if (r.meta.partial) o.add("partial", true);
   if (!r.meta.notes.empty()) o.add("notes", r.meta.notes);
