@@ -85,7 +85,7 @@ struct IntruderContacts {
 class DemSystem {
  public:
   /// Fewer grains per thread than this and the step runs on fewer threads (same results).
-  static constexpr int kMinGrainsPerThread = 500;
+  static constexpr int kMinGrainsPerThread = 250;
   /// At most this many threads.
   static constexpr int kMaxTeam = 64;
 
