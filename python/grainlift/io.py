@@ -18,6 +18,8 @@ import tomllib
 import h5py
 import numpy as np
 
+from grainlift.stats import block_mean
+
 SOLVERS = ("dem", "fem")
 
 
@@ -137,7 +139,6 @@ class Result:
         averaged samples and blocks), whichever binary wrote the file: a file written since
         the rule became the DEM's (/means) holds the same numbers; an older one holds the
         uncorrected block error. Empty for a file without averaged samples (FEM, replicas)."""
-        from grainlift.stats import block_mean
         m = self.means
         n, blocks = int(m.get("samples", 0)), int(m.get("blocks", 0))
         if self.solver != "dem" or n < 2 or blocks < 2 or "forces/fx" not in self:

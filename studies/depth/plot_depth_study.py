@@ -143,6 +143,14 @@ def load(out, window=None):
     return runs
 
 
+def load_pooled(out, window=None):
+    """load(), with the beds of dem_d6 pooled as the series dem_d6_pooled (grainlift.beds): what
+    the tables are made of, and what studies/one_box and studies/nonlocal compare with."""
+    runs = load(out, window)
+    pool_series(runs, "dem_d6", BEDS, "dem_d6_pooled")
+    return runs
+
+
 def series(runs, s, gradient, bigbox=False, free_surface=False):
     """Runs of series s with or without the gradient, on the standard box, sorted by depth: the
     lid runs, or (free_surface) the free-surface ones."""
@@ -521,11 +529,10 @@ def main():
     out = args[0]
     img = args[1] if len(args) > 1 else out
     os.makedirs(img, exist_ok=True)
-    runs = load(out, window)
+    runs = load_pooled(out, window)
     if not runs:
         print(f"no results under {out}/{{dem,fem_full,fem_linearised}}/*/", file=sys.stderr)
         return 1
-    pool_series(runs, "dem_d6", BEDS, "dem_d6_pooled")
     plot_scalar(runs, "lift", "lift_err", "L / B,  B = rho g pi D^2 / 4",
                 os.path.join(img, "depth_lift.png"), lambda r, v: v / r["B"], net=True)
     plot_scalar(runs, "drag", "drag_err", "C_d = drag / (rho g h D)",

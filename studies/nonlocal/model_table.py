@@ -26,7 +26,6 @@ import sys
 HERE = os.path.dirname(os.path.realpath(__file__))
 sys.path[:0] = [os.path.join(HERE, "..", "..", "python"), os.path.join(HERE, "..", "depth")]
 from grainlift import io  # noqa: E402
-from grainlift.beds import pool_series  # noqa: E402
 
 MODELS = [("local", "local mu(I)"), ("wall", "+ wall law"), ("A0.5", "+ NGF A 0.5"),
           ("wall_A0.5", "+ both")]
@@ -79,8 +78,7 @@ def dem(one_box, name):
 def depth_dem(depth_runs):
     """{h: {"C_d": (v, e), "L/B": (v, e)}} of the heavy lid at 4, 8, 12 D, pooled."""
     import plot_depth_study as depth  # noqa: E402
-    runs = depth.load(depth_runs, (20.0, 60.0))
-    pool_series(runs, "dem_d6", depth.BEDS, "dem_d6_pooled")
+    runs = depth.load_pooled(depth_runs, (20.0, 60.0))
     out = {}
     for h in (4, 8, 12):
         r = runs.get(("dem_d6_pooled", f"heavy_lid_h{h}"))

@@ -34,9 +34,7 @@ def depth_dem_pooled(depth_root):
     runs): {name: (drag, drag error, lift, lift error)} in N/m; empty without those runs."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "depth"))
     import plot_depth_study as depth  # noqa: E402
-    from grainlift.beds import pool_series  # noqa: E402
-    runs = depth.load(depth_root, (20.0, 60.0))
-    pool_series(runs, "dem_d6", depth.BEDS, "dem_d6_pooled")
+    runs = depth.load_pooled(depth_root, (20.0, 60.0))
     return {n: (r["drag"], r["drag_err"], r["lift"], r["lift_err"])
             for (s, n), r in runs.items() if s == "dem_d6_pooled" and n in DEPTH_SCENES}
 
