@@ -2,6 +2,8 @@
 // case's grains (dem/glue/calibration.cc), written as a rheology file a case can name.
 #include <fmt/format.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -9,6 +11,7 @@
 #include "commands.h"
 #include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/results/atomic_file.h"
 #include "grainlift/shared/rheology/rheology_cache.h"
 #include "grainlift/shared/rheology/rheology_file.h"
 #include "python_script.h"
@@ -17,6 +20,78 @@
 #endif
 
 namespace grainlift::app {
+
+#ifdef GRAINLIFT_HAVE_DEM
+namespace {
+
+/// `calibrate --nonlocal`: the creeping-layer cell, A fitted with the file's mu_s, the
+/// [nonlocal] table added to the file and the profile written beside it (.creep.csv).
+int calibrate_nonlocal(const CalibrateArgs& a, const Case& c, const std::string& out) {
+  if (!std::filesystem::exists(out))
+    throw InputError(fmt::format("calibrate --nonlocal: {} does not exist; its mu_s is needed "
+                                 "(run `grainlift calibrate {}` first)",
+                                 out, a.case_path));
+  RheologyFile law = read_rheology_file(out);
+  dem::CreepOptions o;
+  o.pressure = a.pressure;
+  o.threads = a.threads;
+  o.seeds = a.seeds;
+  o.top_inertial_number = a.creep_inertial_number;
+  o.run_in_travel *= a.strain_scale;
+  o.window_travel *= a.strain_scale;
+  const dem::CreepCalibration cal = dem::calibrate_cooperativity(
+      c, o, law.mu_i, [&](const std::string& line) {
+        if (a.quiet) return;
+        fmt::print("calibrate: {}\n", line);
+        std::fflush(stdout);  // a line per bed as it ends, also into a log file
+      });
+  const CreepProfile& p = cal.profile;
+  std::string csv = fmt::format(
+      "# grainlift calibrate --nonlocal: {} beds pooled; tau = {} +- {}, mu_s = {}; v_fit at "
+      "the pooled profile's A = {}, v_local at the local limit\n"
+      "y_m,vx_m_per_s,vx_stderr,pressure,mu,dv_m_per_s,dv_stderr,v_fit,v_local\n",
+      cal.cells.size(), p.shear_stress, p.shear_stress_err, law.mu_i.mu_s,
+      cal.profile_fit_amplitude > 0 ? cal.profile_fit_amplitude : cal.fit.amplitude);
+  const auto at = [](const std::vector<double>& v, std::size_t k) {
+    return k < v.size() ? v[k] : std::nan("");
+  };
+  for (std::size_t k = 0; k < p.y.size(); ++k)
+    csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", p.y[k], p.vx[k], p.vx_err[k],
+                       p.pressure[k], p.shear_stress / p.pressure[k], p.dv[k], p.dv_err[k],
+                       at(cal.fit_velocity, k), at(cal.local_velocity, k));
+  const std::string csv_path = std::filesystem::path(out).replace_extension(".creep.csv").string();
+  write_text_atomically(csv_path, csv);
+  const std::string png = std::filesystem::path(out).replace_extension(".creep.png").string();
+  if (run_python_script("plot_creep.py", {csv_path, png}) == 0)
+    fmt::print("profile: {} (plot {})\n", csv_path, png);
+  else
+    fmt::print("profile: {} (plot not drawn: scripts/plot_creep.py failed)\n", csv_path);
+  const CooperativityFit& f = cal.fit;
+  if (!f.ok)
+    throw RunError(fmt::format("calibrate --nonlocal: A not determined: {} (chi2/dof {:.2f}, "
+                               "{} bins, C {:.3f}); {} left as it was",
+                               f.message, f.chi2_per_dof, f.points, f.scale, out));
+  law.nonlocal = Cooperativity{f.amplitude, f.amplitude_err, f.chi2_per_dof, f.points,
+                               f.mu_min, f.mu_max};
+  law.source["nonlocal"] = fmt::format(
+      "calibrate --nonlocal: {} beds of {} d x {} d, p at the bottom {} P, travel {} + {} d; "
+      "grainlift {} ({})",
+      cal.cells.size(), o.width, o.height, o.bottom_pressure_ratio, o.run_in_travel,
+      o.window_travel, grainlift_version(), grainlift_git_revision());
+  write_rheology_file(out, law);
+  fmt::print("cooperativity: A {:.3f} +- {:.3f} ({}: {:.3f}; mu_s's part {:.3f}); pooled "
+             "profile: A {:.3f}, chi2/dof {:.2f}, {} bins, mu {:.3f}-{:.3f}, velocity {:.3f} x "
+             "the calibrated law's, floor {:.2g} m/s\nrheology file: {} ([nonlocal])\n",
+             f.amplitude, f.amplitude_err,
+             cal.cells.size() > 1 ? "the beds' pooled mean and error" : "the profile's error",
+             f.profile_err, f.mu_s_err_part,
+             cal.profile_fit_amplitude > 0 ? cal.profile_fit_amplitude : f.amplitude,
+             f.chi2_per_dof, f.points, f.mu_min, f.mu_max, f.scale, f.floor, out);
+  return exit_success;
+}
+
+}  // namespace
+#endif
 
 int cmd_calibrate(const CalibrateArgs& a) {
 #ifdef GRAINLIFT_HAVE_DEM
@@ -34,8 +109,11 @@ int cmd_calibrate(const CalibrateArgs& a) {
                               ? (std::filesystem::path(a.case_path).parent_path() / "rheology.toml")
                                     .string()
                               : a.out;
+  if (a.nonlocal) return calibrate_nonlocal(a, c, out);
   const dem::Calibration cal = dem::calibrate_rheology(c, o, [&](const std::string& line) {
-    if (!a.quiet) fmt::print("calibrate: {}\n", line);
+    if (a.quiet) return;
+    fmt::print("calibrate: {}\n", line);
+    std::fflush(stdout);
   });
   write_rheology_file(out, cal.law);
   RheologyFile law = cal.law;

@@ -150,9 +150,14 @@ int cmd_validate(const std::vector<std::string>& files, const std::vector<std::s
     try {
       if (is_rheology_file(f)) {
         const RheologyFile law = read_rheology_file(f);
+        std::string extra;
+        if (law.wall) extra += fmt::format(", wall friction {:.3g}", law.wall->friction);
+        if (law.nonlocal)
+          extra += fmt::format(", nonlocal A {:.3g} +- {:.2g}", law.nonlocal->amplitude,
+                               law.nonlocal->amplitude_err);
         fmt::print("{}: ok (rheology file: mu_s {:.4g}, mu_2 {:.4g}, I0 {:.4g}, I in [{:.3g}, "
-                   "{:.3g}])\n",
-                   f, law.mu_i.mu_s, law.mu_i.mu_2, law.mu_i.I0, law.I_min, law.I_max);
+                   "{:.3g}]{})\n",
+                   f, law.mu_i.mu_s, law.mu_i.mu_2, law.mu_i.I0, law.I_min, law.I_max, extra);
         continue;
       }
       load_case(f, sets);
@@ -319,6 +324,19 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& cal) {
                         "DEM results of the case (folders or dem.h5, with the slip histogram): "
                         "fit the grains' wall law into the file's [wall] table "
                         "(continuum.wall_law = \"measured\" or \"measured_slip\")");
+  calibrate->add_flag("--nonlocal", cal.nonlocal,
+                      "instead of the mu(I) sweep: fit the nonlocal fluidity's A on a creeping "
+                      "layer (gravity under a sheared top) with the mu(I) of the existing "
+                      "rheology file (--out), into its [nonlocal] table");
+  calibrate->add_option("--seeds", cal.seeds,
+                        "independent beds of the creeping-layer cell, pooled (--nonlocal)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  calibrate->add_option("--creep-inertial-number", cal.creep_inertial_number,
+                        "nominal I of the creeping-layer cell's sheared top (--nonlocal): the lid "
+                        "moves at 10 I sqrt(P / rho_s); lower it when the top slides on the lid")
+      ->check(CLI::Range(1e-4, 1.0))
+      ->capture_default_str();
   return calibrate;
 }
 

@@ -21,6 +21,12 @@ struct CalibrateArgs {
   /// DEM results (folders or dem.h5) of the case whose wall law is fitted into the file's
   /// [wall] table (scripts/fit_wall.py); empty: no [wall]
   std::vector<std::string> wall_runs;
+  /// Measure the nonlocal fluidity's cooperativity amplitude A on a creeping layer (with the
+  /// mu_s of the rheology file at out, which must exist) into its [nonlocal] table, instead of
+  /// the mu(I) sweep
+  bool nonlocal = false;
+  int seeds = 4;  ///< independent beds of the creeping-layer cell (--nonlocal)
+  double creep_inertial_number = 0.05;  ///< nominal I of the creeping-layer cell's sheared top
 };
 
 /// `grainlift calibrate` (calibrate_command.cc); exit code.

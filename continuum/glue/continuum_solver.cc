@@ -261,9 +261,9 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
         c.continuum.wall_v0, c.continuum.rheology_file);
   if (cfg.model == ContinuumModel::nonlocal_fluidity) {  // absent otherwise
     d.texts["continuum_model"] = fmt::format(
-        "nonlocal_fluidity: A = {}, xi capped at {} m, g_loc from Jop's mu(I) inverted",
-        cfg.nonlocal.amplitude, cfg.nonlocal.xi_max > 0 ? cfg.nonlocal.xi_max
-                                                          : cfg.intruder_diameter);
+        "nonlocal_fluidity: A = {} ({}), xi capped at {} m, g_loc from Jop's mu(I) inverted",
+        cfg.nonlocal.amplitude, c.continuum.nonlocal_amplitude_source,
+        cfg.nonlocal.xi_max > 0 ? cfg.nonlocal.xi_max : cfg.intruder_diameter);
     d.counts["nonlocal_iterations"] = out.nonlocal_iterations;
     d.values["nonlocal_change"] = out.nonlocal_change;
     d.values["nonlocal_force_change"] = out.nonlocal_force_change;

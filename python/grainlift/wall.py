@@ -250,6 +250,8 @@ def with_wall_table(text, table):
         i = lines.index("[wall]")
         end = next((k for k in range(i + 1, len(lines)) if lines[k].startswith("[")),
                    len(lines))
+        while end > i + 1 and lines[end - 1].startswith("#"):  # the next table's comments
+            end -= 1
         while i > 0 and lines[i - 1].startswith("#"):
             i -= 1
         lines = lines[:i] + lines[end:]

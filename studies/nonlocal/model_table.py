@@ -1,12 +1,15 @@
 #!/usr/bin/python3
 """Which continuum follows the particles (issue 35): the DEM against the local mu(I), the wall
-law measured on the grains, nonlocal fluidity (A = 0.5) and both, on the cross-check set.
+law measured on the grains, nonlocal fluidity (A = 0.5, and A calibrated on the grains by
+`grainlift calibrate --nonlocal`) and both, on the cross-check set.
 
     model_table.py NONLOCAL_RUNS ONE_BOX_RUNS DEPTH_RUNS
 
 NONLOCAL_RUNS: studies/nonlocal/nonlocal_study.sh OUT models (FEM runs named SCENE_local,
-SCENE_wall, SCENE_A0.5, SCENE_wall_A0.5); ONE_BOX_RUNS: studies/one_box's runs (the DEM of
-the demo at Omega 0, 2, 4, 8 and of the 16 D box at 0, 2, 4, one bed each, means over 10-60 d);
+SCENE_wall, SCENE_A0.5, SCENE_wall_A0.5, and SCENE_Acal, SCENE_wall_Acal where the grains'
+rheology file has a [nonlocal] table: the demo's, not the depth sweep's); ONE_BOX_RUNS:
+studies/one_box's runs (the DEM of the demo at Omega 0, 2, 4, 8 and of the 16 D box at 0, 2, 4,
+one bed each, means over 10-60 d);
 DEPTH_RUNS: studies/depth's runs (the heavy lid at 4, 8, 12 D pooled over three beds, forces
 over 20-60 d, as plot_depth_study.py --window 20 60).
 
@@ -28,7 +31,7 @@ sys.path[:0] = [os.path.join(HERE, "..", "..", "python"), os.path.join(HERE, "..
 from grainlift import io  # noqa: E402
 
 MODELS = [("local", "local mu(I)"), ("wall", "+ wall law"), ("A0.5", "+ NGF A 0.5"),
-          ("wall_A0.5", "+ both")]
+          ("wall_A0.5", "+ both"), ("Acal", "+ NGF A cal"), ("wall_Acal", "+ both, A cal")]
 NONLOCAL_PRECISION = 0.05
 SCENES = [("demo", 0, "demo_o0"), ("demo", 2, "demo_o2"), ("demo", 4, "demo_o4"),
           ("demo", 8, "demo_o8"), ("big", 0, "big_o0"), ("big", 2, "big_o2"),

@@ -6,7 +6,8 @@
 # docs/crosscheck.md (same case, same boxes). Prints one table row per run.
 #   studies/nonlocal/nonlocal_study.sh [OUT_DIR] [boxes|depth|models|all]
 #     (default runs/nonlocal, all; boxes ~25 min, depth ~10 min, models ~15 min on one core)
-# models: the wall law measured on the grains, alone and with A = 0.5 (issue 35's table):
+# models: the wall law measured on the grains, alone and with A = 0.5, and A calibrated on the
+#   demo's grains alone and with the wall law (issue 35's table):
 #   the demo's grains: continuum.wall_law = "measured_slip" from OUT_DIR/demo_wall.toml (the
 #   demo's rheology.toml with the [wall] table that scripts/fit_wall.py fits on
 #   runs/wall_law/demo_o*/dem: the demo's DEM at Omega 0-8, made first if absent); the
@@ -78,6 +79,13 @@ if [[ $PART == models || $PART == all ]]; then
   MEASURED=(--set "continuum.rheology_file=\"$WALL\"" --set 'continuum.wall_law="measured_slip"')
   NGF=(--set 'continuum.model="nonlocal_fluidity"' --set continuum.nonlocal_amplitude=0.5
        --set continuum.nonlocal_tolerance=0.01)
+  # A measured on the demo's grains (`grainlift calibrate cases/demo/demo.toml --nonlocal`, the
+  # [nonlocal] table of cases/demo/rheology.toml), stated so that the wall-law runs (whose
+  # rheology file is demo_wall.toml) use it too; no runs without the table
+  ACAL=$(awk '/^\[/ { t = $0 } t == "[nonlocal]" && $1 == "amplitude" { print $3 }' \
+    cases/demo/rheology.toml)
+  NGF_CAL=(--set 'continuum.model="nonlocal_fluidity"' --set "continuum.nonlocal_amplitude=$ACAL"
+           --set continuum.nonlocal_tolerance=0.01)
   for box in demo big; do
     extra=()
     [[ $box == big ]] && extra=("${BIG[@]}")
@@ -89,6 +97,10 @@ if [[ $PART == models || $PART == all ]]; then
       run "${box}_O${W}_wall" "${extra[@]}" --set "intruder.omega=$omega" "${MEASURED[@]}"
       run "${box}_O${W}_wall_A0.5" "${extra[@]}" --set "intruder.omega=$omega" \
         "${MEASURED[@]}" "${NGF[@]}"
+      [[ -n $ACAL ]] || continue
+      run "${box}_O${W}_Acal" "${extra[@]}" --set "intruder.omega=$omega" "${NGF_CAL[@]}"
+      run "${box}_O${W}_wall_Acal" "${extra[@]}" --set "intruder.omega=$omega" \
+        "${MEASURED[@]}" "${NGF_CAL[@]}"
     done
   done
   CASE=cases/guillard2014/depth_sweep.toml

@@ -318,6 +318,48 @@ TEST(EndToEnd, CalibrateWritesAFittedRheologyFile) {
   fs::remove_all(dir);
 }
 
+// `grainlift calibrate --nonlocal` on the demo's grains (one bed, a tenth of the default travel:
+// about 10 s): the cooperativity amplitude of the creeping-layer cell is added to the demo's
+// rheology file as [nonlocal], the rest of the file reads back unchanged (mu_s, mu_2, I0 to
+// the bit), A lies inside the searched range [0.01, 10] with an error bar (measured 0.20 +-
+// 0.065), the fitted bins span mu from below 0.2 (the creeping bed, p up to 3 P0) to above the
+// calibrated mu_s 0.239 (the sheared top), and the profile is written beside the file with a
+// row per bin. Without a rheology file to read mu_s from the command is bad input (exit 2).
+TEST(EndToEnd, CalibrateNonlocalAddsTheCooperativityAmplitude) {
+  const fs::path dir = scratch();
+  const std::string demo = std::string(GRAINLIFT_SOURCE_DIR) + "/cases/demo/";
+  const fs::path law = dir / "demo_law.toml";
+  fs::copy_file(demo + "rheology.toml", law, fs::copy_options::overwrite_existing);
+  const RheologyFile before = read_rheology_file(law.string());
+  std::string out;
+  const int rc = run("calibrate " + demo + "demo.toml --nonlocal --seeds 1 --strain-scale 0.1 "
+                     "--quiet --out " + law.string(), &out);
+  ASSERT_EQ(rc, 0) << out;
+  const RheologyFile after = read_rheology_file(law.string());
+  ASSERT_TRUE(after.nonlocal.has_value()) << out;
+  EXPECT_EQ(after.mu_i.mu_s, before.mu_i.mu_s);
+  EXPECT_EQ(after.mu_i.mu_2, before.mu_i.mu_2);
+  EXPECT_EQ(after.mu_i.I0, before.mu_i.I0);
+  EXPECT_EQ(after.points.size(), before.points.size());
+  const Cooperativity& a = *after.nonlocal;
+  EXPECT_GT(a.amplitude, 0.01) << out;
+  EXPECT_LT(a.amplitude, 10.0) << out;
+  EXPECT_GT(a.amplitude_err, 0.0) << out;
+  EXPECT_LT(a.mu_min, 0.2) << out;
+  EXPECT_GT(a.mu_max, before.mu_i.mu_s) << out;
+  std::ifstream csv(dir / "demo_law.creep.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line))
+    if (!line.empty() && line[0] != '#' && line[0] != 'y') ++rows;
+  EXPECT_GE(rows, a.points) << out;
+  const int bad = run("calibrate " + demo + "demo.toml --nonlocal --out " +
+                          (dir / "none.toml").string(), &out);
+  EXPECT_EQ(bad, 2) << out;
+  EXPECT_NE(out.find("does not exist; its mu_s is needed"), std::string::npos) << out;
+  fs::remove_all(dir);
+}
+
 // A shear-cell point the DEM cannot run (Guillard's soft grains, E = 5 MPa, at I = 0.5 and
 // P = 1.2 N/m: the linear start profile of a dense bed drives overlaps above 0.1 d within 230
 // steps) is reported by name and left out of the fit; the calibration still fits the other

@@ -1,5 +1,6 @@
 // DEM simple-shear cell (shear_cell.h): Kumar grains between rough walls, the lid at P = 500 N/m
-// (kn / P = 8e4, nearly rigid grains) moved along x at U, no gravity.
+// (kn / P = 8e4, nearly rigid grains) moved along x at U, without gravity and with it (the
+// creeping-layer cell of `grainlift calibrate --nonlocal`).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -108,4 +109,36 @@ TEST(ShearCell, FrictionlessGrainsHaveSmallerMacroscopicFriction) {
       << "mu = 0: " << smooth.friction.mean << " +- " << smooth.friction.se << " (I "
       << smooth.inertial_number << "), mu = 0.5: " << rough.friction.mean << " +- "
       << rough.friction.se << " (I " << rough.inertial_number << ")";
+}
+
+// Physics: with gravity across the layer (the creeping-layer cell) the grains' vertical momentum
+// is stationary, so the bottom wall carries the lid's load plus the grains' whole weight:
+// p_bottom = P_lid + g M / W within 3 combined block errors (here g M / W = 2 P); the shear stress
+// is still uniform (gravity has no x component): tau_top = tau_bottom within 3 errors; and the
+// pressure grows downwards, so mu = tau / p falls below the sheared top's and the flow is
+// confined there: the lowest bulk bin moves at less than 2% of the lid's speed and 10 times
+// slower than the highest (measured 0.3% and 39 times). (Lid at I ~ 0.1 of the whole gap, 30
+// strains of run-in, window 4.)
+TEST(ShearCell, GravityLoadsTheBottomWallAndConfinesTheFlowToTheTop) {
+  gd::ShearCellConfig c = cell(0.1, 0.5, 30, 4);
+  const double d = c.grains.grain_diameter;
+  c.gravity = 2 * kPressure / (c.grains.density * 0.8 * (c.height - 1) * d);
+  const gd::ShearCellResult r = gd::run_shear_cell(c);
+  const double width = c.width * d, weight = c.gravity * r.grain_mass / width;
+  EXPECT_GT(weight, 1.6 * kPressure);
+  EXPECT_NEAR(r.bottom_pressure.mean, r.pressure.mean + weight,
+              3 * std::hypot(r.bottom_pressure.se, r.pressure.se))
+      << "bottom " << r.bottom_pressure.mean << " +- " << r.bottom_pressure.se << ", lid "
+      << r.pressure.mean << " +- " << r.pressure.se << ", weight " << weight << " N/m";
+  EXPECT_NEAR(r.shear_stress.mean, r.bottom_shear_stress.mean,
+              3 * std::hypot(r.shear_stress.se, r.bottom_shear_stress.se));
+  double low = -1, high = -1;  // the lowest and highest bulk bins' velocity
+  for (std::size_t k = 0; k < r.profile_y.size(); ++k) {
+    if (r.profile_y[k] < 3 * d || r.profile_y[k] > r.lid_height.mean - 3 * d) continue;
+    if (low < 0) low = r.profile_vx[k];
+    high = r.profile_vx[k];
+  }
+  EXPECT_LT(std::abs(low), 0.02 * c.wall_speed) << low << " m/s";
+  EXPECT_GT(high, 10 * std::abs(low)) << high << " m/s, lowest " << low;
+  EXPECT_GT(r.profile_pressure.front(), r.profile_pressure.back() + 0.5 * weight);
 }

@@ -146,7 +146,8 @@ class FitFromRuns(unittest.TestCase):
     mu_w(v) = 0.03 + 0.30 |v| / (|v| + 0.08 m/s) at the bins' slip, noise 0.02 P0 on sigma_t:
     the slip law comes back within 4 of its errors, the pooled friction is the sigma_n-weighted
     mean ratio of the runs within 3 errors; a result without the slip histogram is skipped,
-    none raises ValueError; with_wall_table replaces an old [wall] and its comment."""
+    none raises ValueError; with_wall_table replaces an old [wall] and its comment, and keeps
+    the comment of a table after it."""
 
     @staticmethod
     def result(spin_ratio, rng):
@@ -190,6 +191,12 @@ class FitFromRuns(unittest.TestCase):
         self.assertNotIn("old source", out)
         self.assertEqual(out.count("[wall]"), 1)
         self.assertIn("mu_s = 0.3", out)
+        # a table after [wall] keeps its own comment ([nonlocal] of calibrate --nonlocal)
+        text = ("[mu_i]\nmu_s = 0.3\n\n# old\n[wall]\nfriction = 9\n\n# the A\n[nonlocal]\n"
+                "amplitude = 0.2\n")
+        out = wall.with_wall_table(text, "\n# new\n[wall]\nfriction = 0.2\n")
+        self.assertIn("# the A\n[nonlocal]\namplitude = 0.2", out)
+        self.assertNotIn("friction = 9", out)
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -337,6 +338,19 @@ TEST(CaseLoader, RheologyFileReplacesTheContinuumLaw) {
   fs::remove_all(dir);
 }
 
+namespace {
+/// A calibrated law from 8 exact points of Jop's mu(I) (mu_s 0.26, mu_2 0.8, I0 0.3: frictional
+/// disks) and Phi = 0.81 - 0.3 I, I from 1e-3 to 0.46: a rheology file to add tables to.
+grainlift::RheologyFile frictional_disks_law() {
+  std::vector<grainlift::ShearPoint> pts;
+  for (int k = 0; k < 8; ++k) {
+    const double I = 1e-3 * std::pow(2.4, k);
+    pts.push_back({I, grainlift::jop_mu(I, 0.26, 0.8, 0.3), 0.005, 0.81 - 0.3 * I, 0.002});
+  }
+  return grainlift::make_rheology_file(pts, {{"grains", "test"}});
+}
+}  // namespace
+
 // continuum.wall_law: "coulomb" by default (the wall's friction is continuum.wall_friction,
 // default intruder.friction = grains.friction 0.5: today's results); "measured" takes the
 // friction of the rheology file's [wall] table exactly, "measured_slip" its slip law (mu_a,
@@ -348,12 +362,7 @@ TEST(CaseLoader, MeasuredWallLawTakesTheRheologyFilesWallFriction) {
   const fs::path dir =
       fs::temp_directory_path() / ("grainlift_wall_law_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  std::vector<grainlift::ShearPoint> pts;
-  for (int k = 0; k < 8; ++k) {
-    const double I = 1e-3 * std::pow(2.4, k);
-    pts.push_back({I, grainlift::jop_mu(I, 0.26, 0.8, 0.3), 0.005, 0.81 - 0.3 * I, 0.002});
-  }
-  grainlift::RheologyFile law = grainlift::make_rheology_file(pts, {{"grains", "test"}});
+  grainlift::RheologyFile law = frictional_disks_law();
   grainlift::write_rheology_file((dir / "plain.toml").string(), law);
   grainlift::WallLaw w;
   w.friction = 0.205;
@@ -412,6 +421,55 @@ TEST(CaseLoader, MeasuredWallLawTakesTheRheologyFilesWallFriction) {
   EXPECT_TRUE(contains(e, "needs continuum.wall = \"coulomb\"")) << e;
   e = error(coulomb + "wall_law = \"calibrated\"\n");
   EXPECT_TRUE(contains(e, "coulomb") && contains(e, "measured")) << e;
+  fs::remove_all(dir);
+}
+
+// continuum.nonlocal_amplitude: the nonlocal fluidity's A is the case's when stated (or its
+// default 0.5 without a [nonlocal] table: today's runs), else the A the rheology file's
+// [nonlocal] table measured (grainlift calibrate --nonlocal), taken exactly and named as the
+// source; the table reads back as written and an amplitude <= 0 is refused naming the key.
+TEST(CaseLoader, NonlocalAmplitudeComesFromTheRheologyFileUnlessStated) {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("grainlift_nonlocal_a_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  grainlift::RheologyFile law = frictional_disks_law();
+  grainlift::write_rheology_file((dir / "plain.toml").string(), law);
+  law.nonlocal = grainlift::Cooperativity{0.731, 0.12, 1.4, 9, 0.15, 0.22};
+  const std::string with_a = (dir / "nonlocal.toml").string();
+  grainlift::write_rheology_file(with_a, law);
+  const grainlift::RheologyFile back = grainlift::read_rheology_file(with_a);
+  ASSERT_TRUE(back.nonlocal.has_value());
+  EXPECT_EQ(back.nonlocal->amplitude, 0.731);
+  EXPECT_EQ(back.nonlocal->amplitude_err, 0.12);
+  EXPECT_EQ(back.nonlocal->points, 9);
+  EXPECT_EQ(back.nonlocal->mu_max, 0.22);
+  const std::string case_path = (dir / "case.toml").string();
+  const std::string ngf = base + "[continuum]\nmodel = \"nonlocal_fluidity\"\n";
+  const grainlift::Case plain =
+      grainlift::parse_case(ngf + "rheology_file = \"plain.toml\"\n", case_path);
+  EXPECT_EQ(plain.continuum.nonlocal_amplitude, 0.5);
+  EXPECT_EQ(plain.continuum.nonlocal_amplitude_source, "continuum.nonlocal_amplitude");
+  const grainlift::Case measured =
+      grainlift::parse_case(ngf + "rheology_file = \"nonlocal.toml\"\n", case_path);
+  EXPECT_EQ(measured.continuum.nonlocal_amplitude, 0.731);
+  EXPECT_TRUE(contains(measured.continuum.nonlocal_amplitude_source, "[nonlocal] of"));
+  const grainlift::Case stated = grainlift::parse_case(
+      ngf + "rheology_file = \"nonlocal.toml\"\nnonlocal_amplitude = 0.2\n", case_path);
+  EXPECT_EQ(stated.continuum.nonlocal_amplitude, 0.2);
+  std::string text;
+  {
+    std::ifstream in(with_a);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string bad = (dir / "bad.toml").string();
+  std::ofstream(bad) << text.replace(text.find("amplitude = "), 17, "amplitude = -0.1\n#");
+  try {
+    grainlift::read_rheology_file(bad);
+    ADD_FAILURE() << "an amplitude of -0.1 was accepted";
+  } catch (const grainlift::InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "[nonlocal] amplitude = -0.1")) << e.what();
+  }
   fs::remove_all(dir);
 }
 

@@ -1,16 +1,12 @@
-// The capped cooperativity length (see cooperativity_length.h for the cap rule).
+// The capped cooperativity length (see cooperativity_length.h for the cap rule): the shared law.
 #include "grainlift/continuum/fluidity/cooperativity_length.h"
 
-#include <cmath>
+#include "grainlift/shared/rheology/fluidity_law.h"
 
 namespace grainlift::continuum::fluidity {
 
 double xi_of_mu(double mu, double mu_s, double A, double d, double xi_max) {
-  // Henann & Kamrin 2013: xi = A d / sqrt|mu - mu_s|, smoothed on (mu - mu_s)^2
-  const double length = A * d;
-  const double eps = (length / xi_max) * (length / xi_max);
-  const double dmu = mu - mu_s;
-  return length / std::sqrt(std::sqrt(dmu * dmu + eps * eps));
+  return grainlift::cooperativity_length(mu, mu_s, A, d, xi_max);
 }
 
 }  // namespace grainlift::continuum::fluidity

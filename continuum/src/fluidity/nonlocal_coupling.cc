@@ -23,6 +23,7 @@
 
 #include "cylinder_problem.h"
 #include "grainlift/continuum/fluidity/cooperativity_length.h"
+#include "grainlift/shared/rheology/fluidity_law.h"
 #include "quadrature_rheology.h"
 
 namespace grainlift::continuum::internal {
@@ -31,22 +32,17 @@ using namespace dealii;
 
 namespace {
 
-/// g_loc (1/s) at stress ratio @p mu and pressure @p p (Pa): the inverse of Jop's law,
-/// I(mu) = I0 (mu - mu_s) / (mu_2 - mu) for mu > mu_s (0 below), capped at I = kMaxInertial.
+/// g_loc (1/s) at stress ratio @p mu and pressure @p p (Pa): the shared law
+/// (fluidity_law.h), the inverse of Jop's law capped at I = kMaxLocalFluidityInertial.
 /// Uncapped (or capped at 1000 I0) its pole at mu_2 made the splitting swing between
 /// g -> infinity and g -> 0 where the flow's mu = gamma_dot / g passed mu_2 (|dg|/|g| about 1
 /// after 60 iterations on the spinning-cylinder test); Kamrin & Koval's linearised law
 /// I = (mu - mu_s) / b, b = (mu_2 - mu_s) / I0, has no pole but gives g below the local
 /// solution's where I is not small, and the first flow solve from the local state did not
 /// converge (same test).
-constexpr double kMaxInertial = 1.0;
 double local_fluidity(double mu, double p, const RheologyParams& r) {
-  if (!(p > 0) || !(mu > r.mu_s)) return 0;
-  const double I_cap = std::min(kMaxInertial, 0.999 * 1e3 * r.I0);
-  const double mu_cap = r.mu_s + (r.mu_2 - r.mu_s) * I_cap / (I_cap + r.I0);  // mu(I_cap)
-  const double m = std::min(mu, mu_cap);
-  const double I = r.I0 * (m - r.mu_s) / (r.mu_2 - m);
-  return I * std::sqrt(p / r.solid_density) / (r.grain_diameter * m);
+  return grainlift::local_fluidity(
+      mu, p, {r.mu_s, r.mu_2, r.I0, r.solid_density, r.grain_diameter});
 }
 
 /// Anderson mixing (Walker & Ni, SIAM J. Numer. Anal. 49, 1715, 2011) of the fixed point

@@ -40,6 +40,9 @@ void validate(const ShearCellConfig& c, const DemConfig& dc) {
   if (!(c.pressure > 0) || !std::isfinite(c.pressure)) {
     refuse("pressure = " + str(c.pressure) + " N/m: need > 0 and finite");
   }
+  if (!(c.gravity >= 0) || !std::isfinite(c.gravity)) {
+    refuse("gravity = " + str(c.gravity) + " m/s^2: need >= 0 and finite (it points along -y)");
+  }
   if (!(c.wall_speed >= 0) || !std::isfinite(c.wall_speed)) {
     refuse("wall_speed = " + str(c.wall_speed) + " m/s: need >= 0 and finite");
   }
@@ -104,22 +107,46 @@ bool halves_agree(const std::vector<double>& x, std::size_t begin, std::size_t e
   return std::abs(a.mean - b.mean) <= sigma * std::hypot(a.se, b.se);
 }
 
-/// Velocity profile sums over the window: bins of one d above the bottom wall's centre line.
+/// Velocity profile over the window: bins of one d above the bottom wall's centre line, the
+/// sums of vx and of the grains' mass, and each bin's series of its mean vx per sample.
 struct ProfileSums {
-  std::vector<double> vx;
+  std::vector<double> vx, mass;
   std::vector<long long> count;
-  void add(const DemSystem& s, double y_bottom, double d) {
+  std::vector<std::vector<double>> series;  ///< per bin: mean vx of each sample it had grains
+  /// per bin: the grains' velocity variance about the bin's mean (x and y summed) per sample
+  std::vector<std::vector<double>> fluctuation;
+  long long samples = 0;
+  void add(const DemSystem& s, double y_bottom, double d, double density) {
     const auto& p = s.particles();
+    std::vector<double> sample_vx(vx.size(), 0.0), sample_vy(vx.size(), 0.0);
+    std::vector<double> sample_v2(vx.size(), 0.0);
+    std::vector<long long> sample_n(vx.size(), 0);
     for (int i = 0; i < s.grains(); ++i) {
       const long k = static_cast<long>(std::floor((p.y[i] - y_bottom) / d));
       if (k < 0) continue;
-      if (static_cast<std::size_t>(k) >= vx.size()) {
-        vx.resize(static_cast<std::size_t>(k) + 1, 0.0);
-        count.resize(static_cast<std::size_t>(k) + 1, 0);
+      const auto b = static_cast<std::size_t>(k);
+      if (b >= vx.size()) {
+        for (auto* v : {&vx, &mass, &sample_vx, &sample_vy, &sample_v2}) v->resize(b + 1, 0.0);
+        count.resize(b + 1, 0);
+        sample_n.resize(b + 1, 0);
+        series.resize(b + 1);
+        fluctuation.resize(b + 1);
       }
-      vx[static_cast<std::size_t>(k)] += p.vx[i];
-      ++count[static_cast<std::size_t>(k)];
+      vx[b] += p.vx[i];
+      mass[b] += density * kPi * p.r[i] * p.r[i];
+      ++count[b];
+      sample_vx[b] += p.vx[i];
+      sample_vy[b] += p.vy[i];
+      sample_v2[b] += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
+      ++sample_n[b];
     }
+    for (std::size_t b = 0; b < sample_n.size(); ++b) {
+      if (sample_n[b] == 0) continue;
+      const double n = double(sample_n[b]), mx = sample_vx[b] / n, my = sample_vy[b] / n;
+      series[b].push_back(mx);
+      fluctuation[b].push_back(std::max(0.0, sample_v2[b] / n - mx * mx - my * my));
+    }
+    ++samples;
   }
 };
 
@@ -165,12 +192,13 @@ double band_area_fraction(const DemSystem& s, double lo, double hi, double width
   return hi > lo ? area / (width * (hi - lo)) : 0.0;
 }
 
-/// The window's series (pressure, shear stress, bottom shear stress, lid height, area
-/// fraction), each sample in order.
+/// The window's series (pressure, shear stress, bottom shear stress and pressure, lid height,
+/// area fraction), each sample in order.
 struct CellSeries {
   const std::vector<double>* p;
   const std::vector<double>* tau;
   const std::vector<double>* tau_bottom;
+  const std::vector<double>* p_bottom;
   const std::vector<double>* height;
   const std::vector<double>* phi;
 };
@@ -178,19 +206,36 @@ struct CellSeries {
 /// The block means of the measuring window's series (from r.window_begin on), the friction
 /// tau / P, the mean velocity profile and its fit into @p r.
 void window_statistics(const ShearCellConfig& c, const CellSeries& x, const ProfileSums& profile,
-                       double d, ShearCellResult& r) {
+                       double d, double width, ShearCellResult& r) {
   const std::size_t b = r.window_begin, e = r.samples.size();
   const auto stat = [&](const std::vector<double>* v) { return block_stat(*v, b, e, c.blocks); };
   r.pressure = stat(x.p);
   r.shear_stress = stat(x.tau);
   r.bottom_shear_stress = stat(x.tau_bottom);
+  r.bottom_pressure = stat(x.p_bottom);
   r.lid_height = stat(x.height);
   r.area_fraction = stat(x.phi);
   r.friction = block_ratio(*x.tau, *x.p, b, e, c.blocks);
+  // the weight per width above each bin's centre: the bins above it and half its own
+  double above = 0;
+  r.profile_pressure.assign(profile.vx.size(), r.pressure.mean);
+  for (std::size_t k = profile.vx.size(); k-- > 0;) {
+    const double own = profile.mass[k] / double(std::max(1LL, profile.samples)) / width;
+    r.profile_pressure[k] += c.gravity * (above + 0.5 * own);
+    above += own;
+  }
   for (std::size_t k = 0; k < profile.vx.size(); ++k) {
     r.profile_y.push_back((static_cast<double>(k) + 0.5) * d);
     r.profile_count.push_back(profile.count[k]);
     r.profile_vx.push_back(profile.count[k] ? profile.vx[k] / profile.count[k] : 0.0);
+    const BlockMean m = block_mean(profile.series[k], std::size_t(c.blocks));
+    r.profile_vx_stderr.push_back(std::isfinite(m.stderr_corrected) ? m.stderr_corrected : 0.0);
+    // delta v = sqrt(<variance>), its error by the same rule (d sqrt(x) = dx / (2 sqrt(x)))
+    const BlockMean f = block_mean(profile.fluctuation[k], std::size_t(c.blocks));
+    const double dv = std::sqrt(std::max(0.0, f.mean));
+    r.profile_dv.push_back(std::isfinite(dv) ? dv : 0.0);
+    r.profile_dv_stderr.push_back(
+        dv > 0 && std::isfinite(f.stderr_corrected) ? 0.5 * f.stderr_corrected / dv : 0.0);
   }
   const double layer = c.wall_layer * d;
   fit_profile(r, layer, r.lid_height.mean - layer, c.wall_speed);
@@ -209,7 +254,7 @@ DemConfig shear_cell_dem_config(const ShearCellConfig& c) {
   dc.periodic_y = false;
   dc.wall_bottom = dc.wall_top = true;
   dc.wall_left = dc.wall_right = false;
-  dc.gravity = {0, 0};
+  dc.gravity = {0, -c.gravity};
   dc.intruder_diameter = 0;
   dc.intruder_velocity = {0, 0};
   dc.intruder_omega = 0;
@@ -263,13 +308,15 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
   const int bottom_begin = s.grains(), bottom_end = lid.begin();  // make_wall_disks: bottom first
   s.prepare();
   r.grains = s.grains();
+  for (int i = 0; i < s.grains(); ++i)
+    r.grain_mass += dc.density * kPi * s.particles().r[i] * s.particles().r[i];
   const double ov0 = s.current_max_overlap_fraction();
   if (ov0 > dc.max_overlap_fraction) {
     throw RunFailure("shear cell: the prepared bed overlaps by " + str(ov0) + " of a diameter");
   }
 
   const double layer = c.wall_layer * d;
-  std::vector<double> p, tau, tau_bottom, height, phi;
+  std::vector<double> p, tau, tau_bottom, p_bottom, height, phi;
   ProfileSums profile;
   const long long cap = std::max(c.max_run_in_steps, c.run_in_steps);
   const long long planned = c.run_in_steps + c.measure_steps;
@@ -288,7 +335,9 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
       const double span = width * (smp.time - t0);
       smp.pressure = (lid.state().impulse_y - iy) / span;
       smp.shear_stress = -(lid.state().impulse_x - ix) / span;
-      smp.bottom_shear_stress = s.frozen_force(bottom_begin, bottom_end)[0] / width;
+      const auto bottom = s.frozen_force(bottom_begin, bottom_end);
+      smp.bottom_shear_stress = bottom[0] / width;
+      smp.bottom_pressure = -bottom[1] / width;
       smp.lid_height = lid.state().y - y_bottom;
       smp.area_fraction = band_area_fraction(s, y_bottom + layer, lid.state().y - layer, width);
       const double ov = s.take_max_overlap_fraction();
@@ -303,9 +352,10 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
       p.push_back(smp.pressure);
       tau.push_back(smp.shear_stress);
       tau_bottom.push_back(smp.bottom_shear_stress);
+      p_bottom.push_back(smp.bottom_pressure);
       height.push_back(smp.lid_height);
       phi.push_back(smp.area_fraction);
-      if (window) profile.add(s, y_bottom, d);
+      if (window) profile.add(s, y_bottom, d, dc.density);
       if (progress) progress(std::min(1.0, static_cast<double>(r.steps) / planned), "shear");
     }
   };
@@ -323,7 +373,7 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
     r.run_in_steps += c.measure_steps;  // this window was still run-in
   }
 
-  window_statistics(c, {&p, &tau, &tau_bottom, &height, &phi}, profile, d, r);
+  window_statistics(c, {&p, &tau, &tau_bottom, &p_bottom, &height, &phi}, profile, d, width, r);
   r.inertial_number = r.shear_rate * d / std::sqrt(r.pressure.mean / dc.density);
   return r;
 }

@@ -254,6 +254,11 @@ void apply_rheology_file(const toml::table& root, const std::string& name, Case&
         c.continuum.wall_v0 = law.wall->v0;
       }
     }
+    // the cooperativity amplitude measured on these grains, unless the case states its own
+    if (law.nonlocal && !root.at_path("continuum.nonlocal_amplitude")) {
+      c.continuum.nonlocal_amplitude = law.nonlocal->amplitude;
+      c.continuum.nonlocal_amplitude_source = "[nonlocal] of " + file.string();
+    }
   } catch (const InputError& e) {
     diag.error(diag.where(key, root.at_path(key).node()), e.what());
   }

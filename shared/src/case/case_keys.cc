@@ -287,7 +287,9 @@ void add_nonlocal_keys(std::vector<KeySpec>& k) {
                      "sqrt|mu - mu_s|), solved from the local state by splitting; one MPI rank, "
                      "full gravity"));
   k.push_back(real("continuum.nonlocal_amplitude", false, "0.5", 0, 10, true, true, "-",
-                   "A of the cooperativity length (Kamrin & Koval's glass beads: 0.48)"));
+                   "A of the cooperativity length (Kamrin & Koval's glass beads: 0.48); "
+                   "unstated, the [nonlocal] A of continuum.rheology_file when it has one "
+                   "(grainlift calibrate --nonlocal)"));
   k.push_back(integer("continuum.nonlocal_iterations", "60", 1, 1000,
                       "largest number of splitting iterations (fluidity, then flow)"));
   k.push_back(real("continuum.nonlocal_tolerance", false, "2e-3", 0, 1, true, true, "-",

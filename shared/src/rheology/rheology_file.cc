@@ -46,6 +46,11 @@ const NumberKey wall_keys[] = {
     {"v0", "finite, > 0 (m/s)"},  {"v0_err", "finite, >= 0"},
     {"chi2_per_dof", "finite, >= 0"}, {"points", "integer, >= 4"},
 };
+const NumberKey nonlocal_keys[] = {
+    {"amplitude", "finite, > 0"},     {"amplitude_err", "finite, >= 0"},
+    {"chi2_per_dof", "finite, >= 0"}, {"points", "integer, >= 3"},
+    {"mu_min", "finite, 0 <= mu_min <= mu_max"}, {"mu_max", "finite, mu_max >= mu_min"},
+};
 constexpr const char* covariance_range = "3 arrays of 3 finite numbers, diagonal >= 0";
 
 template <std::size_t N>
@@ -105,6 +110,18 @@ void validate(const RheologyFile& d, const std::string& where) {
     pt("mu_stderr", s.mu_stderr, s.mu_stderr > 0);
     pt("phi", s.phi, s.phi >= 0 && s.phi <= 1);
     pt("phi_stderr", s.phi_stderr, s.phi_stderr > 0);
+  }
+  if (d.nonlocal) {
+    const Cooperativity& a = *d.nonlocal;
+    auto nl = [&](const char* key, double v, bool ok) {
+      require(std::isfinite(v) && ok, where, "nonlocal", key, v, range_of(nonlocal_keys, key));
+    };
+    nl("amplitude", a.amplitude, a.amplitude > 0);
+    nl("amplitude_err", a.amplitude_err, a.amplitude_err >= 0);
+    nl("chi2_per_dof", a.chi2_per_dof, a.chi2_per_dof >= 0);
+    nl("points", a.points, a.points >= 3);
+    nl("mu_min", a.mu_min, a.mu_min >= 0 && a.mu_min <= a.mu_max);
+    nl("mu_max", a.mu_max, a.mu_max >= a.mu_min);
   }
   if (!d.wall) return;
   const WallLaw& w = *d.wall;
@@ -232,6 +249,21 @@ WallLaw read_wall(const toml::table& root, const std::string& path) {
   return w;
 }
 
+/// The optional [nonlocal] table (its ranges are checked by validate).
+Cooperativity read_nonlocal(const toml::table& root, const std::string& path) {
+  const toml::table& t = table_of(root, "nonlocal", path);
+  refuse_unknown(t, nonlocal_keys, nullptr, "nonlocal", path);
+  auto num = [&](const char* key) { return get_number(t, nonlocal_keys, key, "nonlocal", path); };
+  Cooperativity a;
+  a.amplitude = num("amplitude");
+  a.amplitude_err = num("amplitude_err");
+  a.chi2_per_dof = num("chi2_per_dof");
+  a.points = get_count(t, nonlocal_keys, "nonlocal", path);
+  a.mu_min = num("mu_min");
+  a.mu_max = num("mu_max");
+  return a;
+}
+
 }  // namespace
 
 RheologyFile make_rheology_file(const std::vector<ShearPoint>& points,
@@ -304,6 +336,17 @@ std::string rheology_file_text(const RheologyFile& d, const std::string& path) {
     line("chi2_per_dof", w.chi2_per_dof);
     s += fmt::format("points = {}\n", w.points);
   }
+  if (d.nonlocal) {
+    const Cooperativity& a = *d.nonlocal;
+    s += "\n# the nonlocal fluidity's cooperativity length xi = amplitude d / sqrt|mu - mu_s|,\n"
+         "# fitted on a layer sheared at its top, mu_min <= mu = tau / p <= mu_max\n[nonlocal]\n";
+    line("amplitude", a.amplitude);
+    line("amplitude_err", a.amplitude_err);
+    line("chi2_per_dof", a.chi2_per_dof);
+    s += fmt::format("points = {}\n", a.points);
+    line("mu_min", a.mu_min);
+    line("mu_max", a.mu_max);
+  }
   return s;
 }
 
@@ -322,10 +365,11 @@ RheologyFile read_rheology_file(const std::string& path) {
   }
   for (const auto& [k, node] : root) {
     const std::string key(k.str());
-    if (key != "source" && key != "mu_i" && key != "phi_i" && key != "point" && key != "wall")
-      throw InputError(
-          fmt::format("{}: unknown table '{}' (accepted: source, mu_i, phi_i, point, wall)",
-                      at(path, &node), key));
+    if (key != "source" && key != "mu_i" && key != "phi_i" && key != "point" && key != "wall" &&
+        key != "nonlocal")
+      throw InputError(fmt::format(
+          "{}: unknown table '{}' (accepted: source, mu_i, phi_i, point, wall, nonlocal)",
+          at(path, &node), key));
   }
   RheologyFile d;
   if (const toml::table* src = root["source"].as_table()) {
@@ -398,6 +442,7 @@ RheologyFile read_rheology_file(const std::string& path) {
     }
   }
   if (root.contains("wall")) d.wall = read_wall(root, path);
+  if (root.contains("nonlocal")) d.nonlocal = read_nonlocal(root, path);
   validate(d, path);
   return d;
 }

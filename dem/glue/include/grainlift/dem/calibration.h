@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "grainlift/dem/scenes/shear_cell.h"
 #include "grainlift/shared/case/case_model.h"
+#include "grainlift/shared/rheology/cooperativity_fit.h"
 #include "grainlift/shared/rheology/rheology_file.h"
 
 namespace grainlift::dem {
@@ -52,5 +54,49 @@ struct Calibration {
 /// point whose cell fails, e.g. overlaps at a high I, counts as one without).
 Calibration calibrate_rheology(const Case& c, const CalibrationOptions& options,
                                const std::function<void(const std::string&)>& say);
+
+/// The creeping-layer cell of the cooperativity calibration: the shear cell with gravity across
+/// the layer, tall enough that a bed under the sheared top creeps (mu = tau / p < mu_s).
+struct CreepOptions {
+  double pressure = 0;      ///< P on the lid, as CalibrationOptions::pressure
+  double width = 20, height = 40;  ///< mean grain diameters
+  double bottom_pressure_ratio = 3;  ///< p at the bottom wall / P: sets the gravity
+  /// U = top_inertial_number sqrt(P / rho_s) times 10 (a flowing layer of about 10 d at the
+  /// top's inertial number)
+  double top_inertial_number = 0.05;
+  double run_in_travel = 300;   ///< d the lid moves before the window
+  double window_travel = 1500;  ///< d the lid moves in the window
+  int threads = 1;
+  /// independent beds (seeds dem.seed, + 1, ...) whose profiles are pooled bin by bin
+  /// (statistics.h's pooled_mean: the larger of the beds' scatter and their own errors)
+  int seeds = 4;
+  CooperativityFitOptions fit;
+};
+
+struct CreepCalibration {
+  std::vector<ShearCellResult> cells;  ///< one per seed
+  std::vector<CooperativityFit> bed_fits;  ///< A of each bed (the profile's error only)
+  CreepProfile profile;  ///< the beds' profiles pooled bin by bin (pressure with depth, errors)
+  /// The result: with two or more beds all fitted, A is their pooled mean (statistics.h's
+  /// pooled_mean: the larger of the beds' scatter and their own errors) and amplitude_err adds
+  /// mu_s's part in quadrature; chi2_per_dof, scale, points and the mu range are the pooled
+  /// profile's fit. With one bed, or a bed not fitted, the pooled profile's fit.
+  CooperativityFit fit;
+  double profile_fit_amplitude = 0;  ///< A of the pooled profile's fit (when fit is the beds')
+  /// m/s per bin of profile: v_floor + C times the model's velocity at the pooled profile's A,
+  /// and at the local limit (A = fit options' a_min) with the same v_floor and C
+  std::vector<double> fit_velocity, local_velocity;
+  double gravity = 0;    ///< m/s^2 of the cell
+  double wall_seconds = 0;
+};
+
+/// @brief Run the creeping-layer cell on the case's grains and fit the cooperativity amplitude
+/// A of xi = A d / sqrt|mu - mu_s| (cooperativity_fit.h) with the calibrated mu(I) @p law of the
+/// same grains (their rheology file; mu_s's error enters A's).
+/// @throws InputError when no pressure is known or the cell's configuration is refused;
+///         RunError when the cell fails.
+CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& options,
+                                         const MuIFit& law,
+                                         const std::function<void(const std::string&)>& say);
 
 }  // namespace grainlift::dem

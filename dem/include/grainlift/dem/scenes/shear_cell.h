@@ -3,7 +3,10 @@
 // fixed, the top wall is a PressureLid pushed down with P and moved along x at the speed U. The
 // steady state gives one point of the rheology: mu = tau / P and the area fraction Phi against
 // the inertial number I = gamma_dot d / sqrt(P / rho_s), gamma_dot measured from the velocity
-// profile of the bulk. No gravity, no intruder. See docs/dem-model.md, "Simple-shear cell".
+// profile of the bulk. No intruder. With gravity across the layer (ShearCellConfig::gravity,
+// the creeping-layer cell of `grainlift calibrate --nonlocal`) the pressure grows with depth at
+// a uniform shear stress, so mu = tau / p falls below the yield ratio under the sheared top and
+// the grains there creep. See docs/dem-model.md, "Simple-shear cell".
 #pragma once
 
 #include <cstddef>
@@ -40,6 +43,9 @@ struct ShearCellConfig {
   /// Steady when the mean mu and Phi of the two halves of the window differ by at most this
   /// many combined standard errors.
   double steady_sigma = 2;
+  /// m/s^2, gravity along -y (0: none). The pressure then grows from the lid's P downwards by
+  /// the weight of the grains above (ShearCellResult::profile_pressure).
+  double gravity = 0;
 };
 
 /// One sample (every sample_every steps).
@@ -50,6 +56,9 @@ struct ShearCellSample {
   double shear_stress = 0;  ///< N/m, tau on the lid: minus the grains' x force on it / W, the same
   /// N/m, tau on the bottom wall: the grains' x force on it / W at the sample's step
   double bottom_shear_stress = 0;
+  /// N/m, the grains' downward force on the bottom wall / W at the sample's step (P plus the
+  /// grains' weight per width under gravity)
+  double bottom_pressure = 0;
   double lid_height = 0;    ///< m, lid centre line above the bottom wall's
   double area_fraction = 0; ///< of the bulk (grains with centres > wall_layer d from both walls)
 };
@@ -61,19 +70,31 @@ struct ShearCellResult {
   long long steps = 0;                   ///< all steps
   bool steady = false;  ///< the halves of the window agreed (ShearCellConfig::steady_sigma)
   int grains = 0;
+  double grain_mass = 0;  ///< kg (per metre of depth), all grains together
   double packed_area_fraction = 0;  ///< of the prepared bed, between fixed walls
   /// Velocity profile, time-averaged over the window's samples: bins of one d above the bottom
   /// wall's centre line (bin k: [k d, (k + 1) d)); vx the mean grain x velocity (m/s) in the bin.
   std::vector<double> profile_y;   ///< m, bin centres above the bottom wall's centre line
   std::vector<double> profile_vx;  ///< m/s (0 in an empty bin)
   std::vector<long long> profile_count;  ///< grain samples in the bin
+  /// m/s, standard error of profile_vx: the block rule (statistics.h, ShearCellConfig::blocks)
+  /// over the series of the bin's mean x velocity per sample (0 with fewer than 2 blocks)
+  std::vector<double> profile_vx_stderr;
+  /// m/s, the velocity fluctuation delta v of the bin: the square root of the window's mean of
+  /// the grains' velocity variance about the bin's mean velocity (x and y), per sample; and its
+  /// standard error (the block rule on the variance, propagated)
+  std::vector<double> profile_dv, profile_dv_stderr;
+  /// N/m, mean pressure at the bin centre: the lid's P plus gravity times the mean mass of the
+  /// grains above that height per unit width (P everywhere without gravity)
+  std::vector<double> profile_pressure;
   /// Least-squares line vx = a + gamma_dot y through the bulk bins.
   double shear_rate = 0;       ///< 1/s, gamma_dot
   double profile_r2 = 0;       ///< coefficient of determination of the line
   double profile_max_deviation = 0;  ///< largest |vx - line| of a bulk bin / U (0 when U = 0)
   int bulk_bins = 0;
   /// Window means with block standard errors (ShearCellConfig::blocks).
-  MeanError pressure, shear_stress, bottom_shear_stress, lid_height, area_fraction;
+  MeanError pressure, shear_stress, bottom_shear_stress, bottom_pressure, lid_height,
+      area_fraction;
   MeanError friction;  ///< mu = tau / P, per block: the ratio of the block means
   double inertial_number = 0;  ///< gamma_dot d / sqrt(P / rho_s), P the window's mean
 };
@@ -92,7 +113,7 @@ ShearCellResult run_shear_cell(const ShearCellConfig& cfg, const ProgressCallbac
 /// be extended by two windows until steady, and about 2,000 samples per window.
 ShearCellConfig shear_cell_at(const ShearCellConfig& base, double target_I, double strain_scale);
 
-/// @brief The DemConfig of the cell's bed and lid (box, walls, no gravity, no intruder,
+/// @brief The DemConfig of the cell's bed and lid (box, walls, gravity, no intruder,
 /// lid_pressure = P) from cfg.grains.
 DemConfig shear_cell_dem_config(const ShearCellConfig& cfg);
 

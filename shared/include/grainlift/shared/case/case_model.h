@@ -115,6 +115,9 @@ struct ContinuumSection {
   std::string linear_solver;
   std::string model;              ///< "local" | "nonlocal_fluidity"
   double nonlocal_amplitude{};    ///< A (nonlocal_fluidity)
+  /// where A comes from: "continuum.nonlocal_amplitude" (stated or its default) or the
+  /// rheology file's [nonlocal] table (when the case does not state A)
+  std::string nonlocal_amplitude_source = "continuum.nonlocal_amplitude";
   int nonlocal_iterations{};      ///< splitting iterations at most (nonlocal_fluidity)
   double nonlocal_relaxation{};   ///< w of the splitting (nonlocal_fluidity)
   double nonlocal_tolerance{};    ///< relative force change at which the splitting stops

@@ -9,6 +9,8 @@
 //   [[point]]                I, mu, mu_stderr, phi, phi_stderr (one table per measurement)
 //   [wall]                   optional: the grains' friction at an intruder's surface, friction
 //                            (constant), mu_a, mu_b, v0 (slip law), *_err, chi2_per_dof, points
+//   [nonlocal]               optional: the cooperativity amplitude A of the nonlocal fluidity,
+//                            amplitude, amplitude_err, chi2_per_dof, points, mu_min, mu_max
 #pragma once
 
 #include <map>
@@ -32,6 +34,15 @@ struct WallLaw {
   int points = 0;  ///< (slip, friction) pairs the law was fitted to
 };
 
+/// The amplitude A of the nonlocal fluidity's cooperativity length xi = A d / sqrt|mu - mu_s|,
+/// measured on a creeping layer of the grains (cooperativity_fit.h). Errors one sigma.
+struct Cooperativity {
+  double amplitude = 0, amplitude_err = 0;
+  double chi2_per_dof = 0;
+  int points = 0;                  ///< shear rates the line was fitted to
+  double mu_min = 0, mu_max = 0;   ///< range of mu = tau / p over them
+};
+
 /// Everything a rheology file holds.
 struct RheologyFile {
   std::map<std::string, std::string> source;  ///< free strings (grains, date, grainlift_version)
@@ -40,6 +51,7 @@ struct RheologyFile {
   PhiFit phi_i;
   std::vector<ShearPoint> points;             ///< the measurements
   std::optional<WallLaw> wall;                ///< the [wall] table, when the file has one
+  std::optional<Cooperativity> nonlocal;      ///< the [nonlocal] table, when the file has one
 };
 
 /// @brief Fits mu(I) and Phi(I) to @p points and fills a RheologyFile (I_min, I_max from the
@@ -60,7 +72,8 @@ std::string rheology_file_text(const RheologyFile& data, const std::string& path
 
 /// @brief Reads and validates a rheology file: every number finite, 0 <= mu_s < mu_2, I0 > 0,
 /// errors >= 0, 0 < I_min <= I_max, 0 < phi_max <= 1, stderr of each point > 0; an optional
-/// [wall] table with 0 <= friction, mu_a, mu_b, v0 > 0, errors >= 0, points >= 4.
+/// [wall] table with 0 <= friction, mu_a, mu_b, v0 > 0, errors >= 0, points >= 4; an optional
+/// [nonlocal] table with amplitude > 0, its error >= 0, points >= 3, 0 <= mu_min <= mu_max.
 /// @throws InputError naming the file, the key and the accepted range (or the TOML error).
 RheologyFile read_rheology_file(const std::string& path);
 
