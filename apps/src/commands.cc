@@ -313,8 +313,8 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& cal) {
                         "target inertial numbers (default 1e-3 3e-3 1e-2 3e-2 0.06 0.1 0.2 0.5)")
       ->check(CLI::Range(1e-5, 2.0));
   calibrate->add_option("--strain-scale", cal.strain_scale,
-                        "multiplies the strain of every point's run-in and window")
-      ->check(CLI::Range(0.1, 100.0))
+                        "multiplies each point's run-in and window strain (--nonlocal: travel)")
+      ->check(CLI::Range(0.02, 100.0))
       ->capture_default_str();
   calibrate->add_option("--threads", cal.threads, "threads for the DEM")
       ->check(CLI::Range(1, 256))

@@ -28,8 +28,9 @@ double pressure(double y) { return 6000 - 4000 * y / kH; }
 /// The layer solved on its own, on 19,968 cells (d / 512; the fit uses d / 32): g - xi^2 g'' =
 /// g_loc with the shared laws, g' = 0 at both walls by ghost nodes, Thomas algorithm; v = 2 mm/s
 /// of slip at the bottom plus @p factor (0.8) times the integral of mu g (the DEM's layer flows
-/// slower than its calibrated law: the fit takes the factor C), averaged over each bin; its error @p noise +
-/// 2% of v, and Gaussian noise of that standard deviation added unless @p seed is 0.
+/// slower than its calibrated law: the fit takes the factor C), averaged over each bin; its
+/// error @p noise + 2% of v, and Gaussian noise of that standard deviation added unless @p seed
+/// is 0.
 CreepProfile exact_layer(double A, double noise, unsigned seed, double factor = 0.8) {
   const int n = kBins * 512;
   const double h = kH / n;
