@@ -1,12 +1,18 @@
 // Verification drivers: problems with known solutions run through FlowProblem.
 #include "grainlift/continuum/verification.h"
 
+#include <deal.II/base/function.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/vector_tools.h>
 
 #include <cmath>
 
 #include "flow_problem.h"
+#include "fluidity/fluidity_viscosity.h"
 #include "grainlift/continuum/mu_i_rheology.h"
 
 namespace grainlift::continuum::verification {
@@ -195,11 +201,12 @@ ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& param
   });
 }
 
-JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall) {
-  Triangulation<dim> tria;
-  GridGenerator::hyper_cube(tria, 0, 1, true);
-  tria.refine_global(2);
-  MuIRheology visc(params);
+namespace {
+
+/// J(x) d against the central difference of R on @p tria (the unit square refined twice) with
+/// the viscosity @p visc: the body of check_jacobian and check_jacobian_fluidity.
+JacobianCheck jacobian_on(Triangulation<dim>& tria, const ViscosityModel& visc,
+                          bool inertia, bool friction_wall) {
   ProblemSetup setup;
   setup.viscosity = &visc;
   setup.bc.dirichlet[0] = mms_u;
@@ -256,6 +263,33 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
     c.max_abs_reference = std::max(c.max_abs_reference, std::abs(fd));
   }
   return c;
+}
+
+}  // namespace
+
+JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall) {
+  Triangulation<dim> tria;
+  GridGenerator::hyper_cube(tria, 0, 1, true);
+  tria.refine_global(2);
+  const MuIRheology visc(params);
+  return jacobian_on(tria, visc, inertia, friction_wall);
+}
+
+JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall) {
+  Triangulation<dim> tria;
+  GridGenerator::hyper_cube(tria, 0, 1, true);
+  tria.refine_global(2);
+  // a smooth fluidity field, Q2 on the flow's mesh as the splitting's: g = 1 + x + y / 2 (1/s)
+  const FE_Q<dim> fe(2);
+  DoFHandler<dim> g_dofs(tria);
+  g_dofs.distribute_dofs(fe);
+  Vector<double> g(g_dofs.n_dofs());
+  VectorTools::interpolate(g_dofs, ScalarFunctionFromFunctionObject<dim>([](const Point2& x) {
+                             return 1 + x[0] + 0.5 * x[1];
+                           }),
+                           g);
+  const internal::FluidityViscosity visc(params, g_dofs, g);
+  return jacobian_on(tria, visc, false, friction_wall);
 }
 
 InclineResult incline_layer(const InclineSpec& s) {

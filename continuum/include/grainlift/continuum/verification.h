@@ -61,6 +61,12 @@ struct JacobianCheck {
 /// when @p friction_wall, a regularised Coulomb wall; @p inertia adds rho (u.grad)u.
 JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall);
 
+/// @brief The same check for the flow step of the nonlocal fluidity's splitting: eta = p+ / g
+/// (FluidityViscosity) with a fixed smooth fluidity g = 1 + x + y / 2 (1/s, Q2 on the mesh),
+/// so d eta / dp = 1 / g and d eta / d|D|^2 = 0; no inertia, a Coulomb wall when
+/// @p friction_wall. @p params: delta below mu_s / 2 (so g stays above g_min = 2 delta / mu_s).
+JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall);
+
 /// Steady mu(I) layer down an incline of slope theta with an overburden P_top and a shear
 /// traction P_top tan(theta) on its surface, so that tau / p = tan(theta) everywhere:
 /// I = I_beta = mu^{-1}(tan theta) and u(z) = 2 I_beta / (3 d sqrt(rho_s) G)
