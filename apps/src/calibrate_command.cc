@@ -51,7 +51,7 @@ int calibrate_nonlocal(const CalibrateArgs& a, const Case& c, const std::string&
       "the pooled profile's A = {}, v_local at the local limit\n"
       "y_m,vx_m_per_s,vx_stderr,pressure,mu,dv_m_per_s,dv_stderr,v_fit,v_local\n",
       cal.cells.size(), p.shear_stress, p.shear_stress_err, law.mu_i.mu_s,
-      cal.profile_fit_amplitude > 0 ? cal.profile_fit_amplitude : cal.fit.amplitude);
+      cal.profile_fit_amplitude);
   const auto at = [](const std::vector<double>& v, std::size_t k) {
     return k < v.size() ? v[k] : std::nan("");
   };
@@ -84,9 +84,8 @@ int calibrate_nonlocal(const CalibrateArgs& a, const Case& c, const std::string&
              "the calibrated law's, floor {:.2g} m/s\nrheology file: {} ([nonlocal])\n",
              f.amplitude, f.amplitude_err,
              cal.cells.size() > 1 ? "the beds' pooled mean and error" : "the profile's error",
-             f.profile_err, f.mu_s_err_part,
-             cal.profile_fit_amplitude > 0 ? cal.profile_fit_amplitude : f.amplitude,
-             f.chi2_per_dof, f.points, f.mu_min, f.mu_max, f.scale, f.floor, out);
+             f.profile_err, f.mu_s_err_part, cal.profile_fit_amplitude, f.chi2_per_dof,
+             f.points, f.mu_min, f.mu_max, f.scale, f.floor, out);
   return exit_success;
 }
 

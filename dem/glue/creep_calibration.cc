@@ -39,14 +39,21 @@ CreepProfile profile_of(const ShearCellResult& r, double d, double wall_layer) {
   return p;
 }
 
-/// The beds' profiles pooled bin by bin (statistics.h's pooled_mean), over the bins all have.
-CreepProfile pooled_profile(const std::vector<CreepProfile>& beds) {
+/// The beds' profiles pooled bin by bin (statistics.h's pooled_mean for the velocities and tau,
+/// plain means for the pressure and the lid's height), over the bins all have; the bins within
+/// @p wall_margin (m) of a wall are not fitted.
+CreepProfile pooled_profile(const std::vector<CreepProfile>& beds, double wall_margin) {
   std::size_t bins = beds.front().y.size();
   for (const CreepProfile& b : beds) bins = std::min(bins, b.y.size());
   const auto pool = [&](auto value, auto error) {
     std::vector<double> m, e;
     for (const CreepProfile& b : beds) m.push_back(value(b)), e.push_back(error(b));
     return pooled_mean(m, e);
+  };
+  const auto mean = [&](auto value) {
+    double s = 0;
+    for (const CreepProfile& b : beds) s += value(b);
+    return s / double(beds.size());
   };
   CreepProfile p = beds.front();
   for (auto* v : {&p.y, &p.vx, &p.vx_err, &p.pressure, &p.dv, &p.dv_err}) v->resize(bins);
@@ -56,17 +63,14 @@ CreepProfile pooled_profile(const std::vector<CreepProfile>& beds) {
     const PooledMean dv = pool([k](const CreepProfile& b) { return b.dv[k]; },
                                [k](const CreepProfile& b) { return b.dv_err[k]; });
     p.vx[k] = v.mean, p.vx_err[k] = v.error, p.dv[k] = dv.mean, p.dv_err[k] = dv.error;
-    p.pressure[k] = pool([k](const CreepProfile& b) { return b.pressure[k]; },
-                         [](const CreepProfile&) { return 0.0; })
-                        .mean;
+    p.pressure[k] = mean([k](const CreepProfile& b) { return b.pressure[k]; });
   }
   const PooledMean tau = pool([](const CreepProfile& b) { return b.shear_stress; },
                               [](const CreepProfile& b) { return b.shear_stress_err; });
   p.shear_stress = tau.mean;
   p.shear_stress_err = tau.error;
-  p.top = pool([](const CreepProfile& b) { return b.top; }, [](const CreepProfile&) { return 0.0; })
-              .mean;
-  p.y_max = p.top - (beds.front().top - beds.front().y_max);
+  p.top = mean([](const CreepProfile& b) { return b.top; });
+  p.y_max = p.top - wall_margin;
   return p;
 }
 
@@ -79,7 +83,6 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
     throw InputError(fmt::format("{}: calibrate --nonlocal needs a pressure; give one with "
                                  "--pressure",
                                  c.source.path));
-  const auto t0 = std::chrono::steady_clock::now();
   ShearCellConfig cell;
   cell.grains = make_dem_config(c, o.threads);
   cell.width = o.width;
@@ -89,8 +92,7 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
   const double d = g.grain_diameter, gap = (o.height - 1) * d;
   CreepCalibration out;
   // the weight of the bed (at its prepared area fraction) that makes p(bottom) = ratio P
-  out.gravity = (o.bottom_pressure_ratio - 1) * pressure / (g.density * g.area_fraction * gap);
-  cell.gravity = out.gravity;
+  cell.gravity = (o.bottom_pressure_ratio - 1) * pressure / (g.density * g.area_fraction * gap);
   cell.wall_speed = o.top_inertial_number * 10 * std::sqrt(pressure / g.density);
   const auto steps = [&](double travel) {
     return static_cast<long long>(std::ceil(travel * d / cell.wall_speed / g.dt));
@@ -101,7 +103,7 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
   cell.sample_every = static_cast<int>(std::max(10LL, cell.measure_steps / 4000));
   say(fmt::format("creeping-layer cell: {} d x {} d, P {} N/m on the lid, gravity {:.4g} m/s^2 "
                   "(p at the bottom ~ {} P), lid at {:.4g} m/s, {} + {} steps, {} seeds",
-                  o.width, o.height, pressure, out.gravity, o.bottom_pressure_ratio,
+                  o.width, o.height, pressure, cell.gravity, o.bottom_pressure_ratio,
                   cell.wall_speed, cell.run_in_steps, cell.measure_steps, o.seeds));
   const FluidityMaterial material{law.mu_s, law.mu_2, law.I0, g.density, d};
   std::vector<CreepProfile> beds;
@@ -120,8 +122,7 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
     const ShearCellResult& r = out.cells.back();
     beds.push_back(profile_of(r, d, cell.wall_layer));
     // each bed's own A, with the profile's error only (mu_s's is common to all beds)
-    out.bed_fits.push_back(fit_cooperativity(beds.back(), material, 0.0, o.fit));
-    const CooperativityFit& f = out.bed_fits.back();
+    const CooperativityFit f = fit_cooperativity(beds.back(), material, 0.0, o.fit);
     if (f.ok) a.push_back(f.amplitude), a_err.push_back(f.amplitude_err);
     say(fmt::format("seed {}: tau {:.4g} +- {:.2g} N/m, mu at the lid {:.4f}, {}steady; A {} "
                     "({:.1f} s)",
@@ -132,11 +133,11 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
                          : "not determined: " + f.message,
                     seconds_since(t1)));
   }
-  out.profile = pooled_profile(beds);
+  out.profile = pooled_profile(beds, cell.wall_layer * d);
   out.fit = fit_cooperativity(out.profile, material, law.mu_s_err, o.fit);
-  const double xi_max = o.fit.xi_max > 0 ? o.fit.xi_max : out.profile.top - out.profile.bottom;
+  out.profile_fit_amplitude = out.fit.amplitude;
   const auto curve = [&](double A) {
-    std::vector<double> v = fluidity_velocity(out.profile, material, A, xi_max);
+    std::vector<double> v = fluidity_velocity(out.profile, material, A, o.fit.xi_max);
     for (double& x : v) x = out.fit.floor + out.fit.scale * x;
     return v;
   };
@@ -146,12 +147,10 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
     // A is the beds' pooled mean (the larger of their scatter and their own errors), with the
     // part of mu_s's error found on the pooled profile added
     const PooledMean m = pooled_mean(a, a_err);
-    out.profile_fit_amplitude = out.fit.amplitude;
     out.fit.amplitude = m.mean;
     out.fit.profile_err = m.error;
     out.fit.amplitude_err = std::hypot(m.error, out.fit.mu_s_err_part);
   }
-  out.wall_seconds = seconds_since(t0);
   return out;
 }
 

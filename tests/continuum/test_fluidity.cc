@@ -2,14 +2,14 @@
 // 178301, 2012), g - xi^2 Laplacian(g) = g_loc, solved alone (the building block of
 // continuum.model = "nonlocal_fluidity"): its exact boundary layer in planar shear, the
 // uniform state under zero flux, a manufactured solution with variable xi, and the capped
-// cooperativity length xi_of_mu.
+// cooperativity length (the shared law, fluidity_law.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
-#include "grainlift/continuum/fluidity/cooperativity_length.h"
+#include "grainlift/shared/rheology/fluidity_law.h"
 #include "grainlift/continuum/fluidity/fluidity_verification.h"
 
 using namespace grainlift::continuum::fluidity;
@@ -89,19 +89,19 @@ TEST(Fluidity, ManufacturedVariableXiAtOptimalRates) {
   }
 }
 
-// The capped cooperativity length (cooperativity_length.h), with mu_s = 0.38, A = 0.5,
+// The capped cooperativity length (fluidity_law.h), with mu_s = 0.38, A = 0.5,
 // d = 1 mm and xi_max = 50 d (so eps = (A d / xi_max)^2 = 1e-4): xi = xi_max at mu = mu_s to
 // 1e-14, xi <= xi_max and symmetric about mu_s everywhere, xi falling as |mu - mu_s| grows,
 // and within (eps / |mu - mu_s|)^2 / 4 below the law A d / sqrt|mu - mu_s| (below 2.5e-7 of
 // it at |mu - mu_s| >= 0.1).
 TEST(Fluidity, CooperativityLengthIsCappedNearTheYieldRatio) {
   const double mu_s = 0.38, A = 0.5, d = 1e-3, xi_max = 50 * d, eps = 1e-4;
-  EXPECT_NEAR(xi_of_mu(mu_s, mu_s, A, d, xi_max), xi_max, 1e-14 * xi_max);
+  EXPECT_NEAR(grainlift::cooperativity_length(mu_s, mu_s, A, d, xi_max), xi_max, 1e-14 * xi_max);
   double previous = xi_max;
   for (int k = 1; k <= 400; ++k) {
     const double dmu = 1e-6 * std::pow(1.05, k);  // 1e-6 ... 0.3
-    const double above = xi_of_mu(mu_s + dmu, mu_s, A, d, xi_max);
-    const double below = xi_of_mu(mu_s - dmu, mu_s, A, d, xi_max);
+    const double above = grainlift::cooperativity_length(mu_s + dmu, mu_s, A, d, xi_max);
+    const double below = grainlift::cooperativity_length(mu_s - dmu, mu_s, A, d, xi_max);
     EXPECT_LE(above, xi_max);
     EXPECT_NEAR(above, below, 1e-14 * xi_max);
     EXPECT_LT(above, previous);

@@ -22,7 +22,6 @@
 #include <sstream>
 
 #include "cylinder_problem.h"
-#include "grainlift/continuum/fluidity/cooperativity_length.h"
 #include "grainlift/shared/rheology/fluidity_law.h"
 #include "quadrature_rheology.h"
 
@@ -151,7 +150,7 @@ void CylinderProblem::solve_nonlocal_fluidity() {
       const double p = qr->pressure[q];
       const double rate = std::sqrt(std::max(qr->in.strain_rate_sq[q], 0.0));
       const double mu = p > 0 ? 2 * qr->out.viscosity[q] * rate / p : 0;
-      c.xi[q] = fluidity::xi_of_mu(mu, r.mu_s, nl.amplitude, r.grain_diameter, xi_max);
+      c.xi[q] = grainlift::cooperativity_length(mu, r.mu_s, nl.amplitude, r.grain_diameter, xi_max);
       c.g_loc[q] = local_fluidity(mu, p, r);
     }
   };

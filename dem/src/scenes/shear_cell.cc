@@ -108,7 +108,8 @@ bool halves_agree(const std::vector<double>& x, std::size_t begin, std::size_t e
 }
 
 /// Velocity profile over the window: bins of one d above the bottom wall's centre line, the
-/// sums of vx and of the grains' mass, and each bin's series of its mean vx per sample.
+/// sums of vx and of the grains' mass, and each bin's series of its mean vx and of its
+/// velocity variance per sample.
 struct ProfileSums {
   std::vector<double> vx, mass;
   std::vector<long long> count;
@@ -118,36 +119,42 @@ struct ProfileSums {
   long long samples = 0;
   void add(const DemSystem& s, double y_bottom, double d, double density) {
     const auto& p = s.particles();
-    std::vector<double> sample_vx(vx.size(), 0.0), sample_vy(vx.size(), 0.0);
-    std::vector<double> sample_v2(vx.size(), 0.0);
-    std::vector<long long> sample_n(vx.size(), 0);
+    // this sample's sums per bin (sized to the bins seen so far, grown as grains reach higher)
+    sx_.assign(vx.size(), 0.0), sy_.assign(vx.size(), 0.0), s2_.assign(vx.size(), 0.0);
+    sm_.assign(vx.size(), 0.0), sn_.assign(vx.size(), 0);
     for (int i = 0; i < s.grains(); ++i) {
       const long k = static_cast<long>(std::floor((p.y[i] - y_bottom) / d));
       if (k < 0) continue;
       const auto b = static_cast<std::size_t>(k);
-      if (b >= vx.size()) {
-        for (auto* v : {&vx, &mass, &sample_vx, &sample_vy, &sample_v2}) v->resize(b + 1, 0.0);
-        count.resize(b + 1, 0);
-        sample_n.resize(b + 1, 0);
-        series.resize(b + 1);
-        fluctuation.resize(b + 1);
+      if (b >= sn_.size()) {
+        for (auto* v : {&sx_, &sy_, &s2_, &sm_}) v->resize(b + 1, 0.0);
+        sn_.resize(b + 1, 0);
       }
-      vx[b] += p.vx[i];
-      mass[b] += density * kPi * p.r[i] * p.r[i];
-      ++count[b];
-      sample_vx[b] += p.vx[i];
-      sample_vy[b] += p.vy[i];
-      sample_v2[b] += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
-      ++sample_n[b];
+      sx_[b] += p.vx[i];
+      sy_[b] += p.vy[i];
+      s2_[b] += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i];
+      sm_[b] += density * kPi * p.r[i] * p.r[i];
+      ++sn_[b];
     }
-    for (std::size_t b = 0; b < sample_n.size(); ++b) {
-      if (sample_n[b] == 0) continue;
-      const double n = double(sample_n[b]), mx = sample_vx[b] / n, my = sample_vy[b] / n;
+    if (sn_.size() > vx.size()) {
+      for (auto* v : {&vx, &mass}) v->resize(sn_.size(), 0.0);
+      count.resize(sn_.size(), 0);
+      series.resize(sn_.size());
+      fluctuation.resize(sn_.size());
+    }
+    for (std::size_t b = 0; b < sn_.size(); ++b) {
+      vx[b] += sx_[b], mass[b] += sm_[b], count[b] += sn_[b];
+      if (sn_[b] == 0) continue;
+      const double n = double(sn_[b]), mx = sx_[b] / n, my = sy_[b] / n;
       series[b].push_back(mx);
-      fluctuation[b].push_back(std::max(0.0, sample_v2[b] / n - mx * mx - my * my));
+      fluctuation[b].push_back(std::max(0.0, s2_[b] / n - mx * mx - my * my));
     }
     ++samples;
   }
+
+ private:
+  std::vector<double> sx_, sy_, s2_, sm_;
+  std::vector<long long> sn_;
 };
 
 /// Least-squares line through the bulk bins of the profile: shear rate, R^2, max deviation / U.

@@ -57,10 +57,9 @@ Result chi2_of(const CreepProfile& p, const std::vector<std::size_t>& bins,
 CooperativityFit fit_once(CreepProfile p, const FluidityMaterial& law, double tau,
                           const CooperativityFitOptions& o) {
   p.shear_stress = tau;
-  const double xi_max = o.xi_max > 0 ? o.xi_max : p.top - p.bottom;
   const std::vector<std::size_t> bins = fitted_bins(p);
   const auto fit_at = [&](double x) {
-    return chi2_of(p, bins, fluidity_velocity(p, law, std::exp(x), xi_max));
+    return chi2_of(p, bins, fluidity_velocity(p, law, std::exp(x), o.xi_max));
   };
   const auto chi2 = [&](double x) { return fit_at(x).chi2; };
   CooperativityFit f;
@@ -77,14 +76,17 @@ CooperativityFit fit_once(CreepProfile p, const FluidityMaterial& law, double ta
   }
   double x = lo + best * h;
   if (best > 0 && best < kScan) {  // golden section on the bracket of the best scan point
-    double a = x - h, b = x + h;
     const double gr = 0.5 * (std::sqrt(5.0) - 1);
-    for (int it = 0; it < 50; ++it) {
-      const double x1 = b - gr * (b - a), x2 = a + gr * (b - a);
-      if (chi2(x1) < chi2(x2))
-        b = x2;
-      else
-        a = x1;
+    double a = x - h, b = x + h, x1 = b - gr * (b - a), x2 = a + gr * (b - a);
+    double f1 = chi2(x1), f2 = chi2(x2);
+    for (int it = 0; it < 50; ++it) {  // one new chi2 per step
+      if (f1 < f2) {
+        b = x2, x2 = x1, f2 = f1;
+        x1 = b - gr * (b - a), f1 = chi2(x1);
+      } else {
+        a = x1, x1 = x2, f1 = f2;
+        x2 = a + gr * (b - a), f2 = chi2(x2);
+      }
     }
     x = 0.5 * (a + b);
   }
@@ -131,6 +133,7 @@ CooperativityFit fit_once(CreepProfile p, const FluidityMaterial& law, double ta
 
 std::vector<double> fluidity_velocity(const CreepProfile& p, const FluidityMaterial& law,
                                       double A, double xi_max) {
+  if (!(xi_max > 0)) xi_max = p.top - p.bottom;
   const double d = law.grain_diameter, tau = p.shear_stress;
   const int n = std::max(8, int(std::ceil((p.top - p.bottom) / d * kCellsPerDiameter)));
   const double h = (p.top - p.bottom) / n;

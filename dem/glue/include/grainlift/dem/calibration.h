@@ -75,19 +75,16 @@ struct CreepOptions {
 
 struct CreepCalibration {
   std::vector<ShearCellResult> cells;  ///< one per seed
-  std::vector<CooperativityFit> bed_fits;  ///< A of each bed (the profile's error only)
   CreepProfile profile;  ///< the beds' profiles pooled bin by bin (pressure with depth, errors)
   /// The result: with two or more beds all fitted, A is their pooled mean (statistics.h's
   /// pooled_mean: the larger of the beds' scatter and their own errors) and amplitude_err adds
   /// mu_s's part in quadrature; chi2_per_dof, scale, points and the mu range are the pooled
   /// profile's fit. With one bed, or a bed not fitted, the pooled profile's fit.
   CooperativityFit fit;
-  double profile_fit_amplitude = 0;  ///< A of the pooled profile's fit (when fit is the beds')
+  double profile_fit_amplitude = 0;  ///< A of the pooled profile's fit (also when fit is the beds')
   /// m/s per bin of profile: v_floor + C times the model's velocity at the pooled profile's A,
   /// and at the local limit (A = fit options' a_min) with the same v_floor and C
   std::vector<double> fit_velocity, local_velocity;
-  double gravity = 0;    ///< m/s^2 of the cell
-  double wall_seconds = 0;
 };
 
 /// @brief Run the creeping-layer cell on the case's grains and fit the cooperativity amplitude

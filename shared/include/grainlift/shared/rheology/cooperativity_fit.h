@@ -58,7 +58,8 @@ struct CooperativityFit {
   std::string message;        ///< why not, when !ok
 };
 
-/// @brief The model's velocity per bin of @p profile at amplitude @p A (C = 1, v_floor = 0).
+/// @brief The model's velocity per bin of @p profile at amplitude @p A (C = 1, v_floor = 0),
+/// xi capped at @p xi_max (m; 0: the layer's height top - bottom, as the fit's default).
 std::vector<double> fluidity_velocity(const CreepProfile& profile, const FluidityMaterial& law,
                                       double A, double xi_max);
 

@@ -7,8 +7,12 @@ namespace grainlift {
 
 /// @brief Cooperativity length xi = A d / sqrt|mu - mu_s|, capped at the yield ratio:
 ///     xi = A d / ((mu - mu_s)^2 + eps^2)^(1/4),   eps = (A d / xi_max)^2,
-/// so xi <= xi_max everywhere, xi = xi_max at mu = mu_s, smooth in mu, and away from mu_s the
-/// law to second order: 0 <= 1 - xi / xi_law <= (eps / |mu - mu_s|)^2 / 4.
+/// so xi <= xi_max everywhere, xi = xi_max at mu = mu_s (the fluidity equation's diffusion
+/// coefficient xi^2 stays bounded, its matrix well conditioned), xi is smooth in mu at mu_s too
+/// (a hard min(law, xi_max) has a kink there, a smoothing on |mu - mu_s| a cusp; a Newton needs
+/// dxi/dmu), and away from mu_s it is the law to second order: 0 <= 1 - xi / xi_law <=
+/// (eps / |mu - mu_s|)^2 / 4 (below 2.5e-7 at |mu - mu_s| = 0.1 for xi_max = 100 A d). xi_max
+/// is the caller's: a few tens of d, or the flow region's size (a longer xi has no effect).
 /// @param mu stress ratio; mu_s yield ratio; A amplitude (> 0); d grain diameter (m, > 0);
 /// xi_max the cap (m, > 0). @return xi (m)
 double cooperativity_length(double mu, double mu_s, double A, double d, double xi_max);
