@@ -14,19 +14,26 @@
 
 namespace grainlift::dem {
 
-Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
-                               const std::function<void(const std::string&)>& say) {
-  const double pressure = o.pressure > 0 ? o.pressure : c.continuum_pressure();
+ShearCellConfig case_shear_cell(const Case& c, double pressure, int threads, double width,
+                                double height) {
+  if (!(pressure > 0)) pressure = c.continuum_pressure();
   if (!(pressure > 0))
     throw InputError(fmt::format(
         "{}: calibrate needs a pressure: the case has no lid, no gravity and no "
         "continuum.ambient_pressure; give one with --pressure",
         c.source.path));
-  ShearCellConfig base;
-  base.grains = make_dem_config(c, o.threads);
-  base.width = o.width;
-  base.height = o.height;
-  base.pressure = pressure;
+  ShearCellConfig cell;
+  cell.grains = make_dem_config(c, threads);
+  cell.width = width;
+  cell.height = height;
+  cell.pressure = pressure;
+  return cell;
+}
+
+Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
+                               const std::function<void(const std::string&)>& say) {
+  const ShearCellConfig base = case_shear_cell(c, o.pressure, o.threads, o.width, o.height);
+  const double pressure = base.pressure;
   Calibration cal;
   std::vector<ShearPoint> fit_points;
   // One point: run, report, keep. Returns false when the cell could not run it.

@@ -8,7 +8,6 @@
 #include <cstdint>
 
 #include "grainlift/dem/calibration.h"
-#include "grainlift/dem/dem_solver.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/statistics/statistics.h"
@@ -78,16 +77,8 @@ CreepProfile pooled_profile(const std::vector<CreepProfile>& beds, double wall_m
 
 CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, const MuIFit& law,
                                          const std::function<void(const std::string&)>& say) {
-  const double pressure = o.pressure > 0 ? o.pressure : c.continuum_pressure();
-  if (!(pressure > 0))
-    throw InputError(fmt::format("{}: calibrate --nonlocal needs a pressure; give one with "
-                                 "--pressure",
-                                 c.source.path));
-  ShearCellConfig cell;
-  cell.grains = make_dem_config(c, o.threads);
-  cell.width = o.width;
-  cell.height = o.height;
-  cell.pressure = pressure;
+  ShearCellConfig cell = case_shear_cell(c, o.pressure, o.threads, o.width, o.height);
+  const double pressure = cell.pressure;
   const DemConfig& g = cell.grains;
   const double d = g.grain_diameter, gap = (o.height - 1) * d;
   CreepCalibration out;

@@ -47,6 +47,13 @@ struct Calibration {
   RheologyFile law;  ///< fitted to the points with fitted = true
 };
 
+/// @brief The shear cell of the case's grains (size distribution, density, contact law,
+/// friction, dt, seed, packing cache; make_dem_config) at @p pressure (Pa, 2D; 0: the case's
+/// continuum_pressure()), @p width x @p height grain diameters, no wall speed or run yet.
+/// @throws InputError naming the case when no pressure is known.
+ShearCellConfig case_shear_cell(const Case& c, double pressure, int threads, double width,
+                                double height);
+
 /// @brief Run the shear cell on the case's grains (size distribution, density, contact law,
 /// friction, dt, seed, packing cache) at each target I and fit mu(I), Phi(I).
 /// @param say  one line per point (and warnings)
