@@ -73,6 +73,10 @@ class CylinderProblem {
   /// The nonlocal fluidity model from the converged local state: fluidity and flow solved in
   /// turn until g settles (fluidity/nonlocal_coupling.cc).
   void solve_nonlocal_fluidity();
+  /// The splitting's flow step @p k with the previous flow's g_loc at the fluidity's points
+  /// (FluidityViscosity::set_local_fluidity), its outputs and its line; false when the flow
+  /// did not converge.
+  bool nonlocal_flow_step(int k, std::vector<double> g_loc);
   /// The problem whose state is post-processed: the gravity-corrected one when there is one.
   const FlowProblem& post() const { return corrected_ ? *corrected_ : *problem_; }
   void say(const std::string& s) const;

@@ -10,6 +10,7 @@
 //   postprocess/         boundary_forces.cc, surface_traces.cc, point_fields.cc,
 //                        ill_posed_share.cc, error_norms.cc, vtu_output.cc
 #include "flow_problem.h"
+#include "fluidity/fluidity_viscosity.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_q.h>
@@ -61,14 +62,17 @@ void FlowProblem::run() {
   report_ = NonlinearReport{};
   solve_nonlinear(setup_.nonlinear);
 }
-PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p,
-                                   const Vec2& u) const {
+PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, const Vec2& u,
+                                   const Triangulation<dim>::cell_iterator& cell,
+                                   const Point2& unit) const {
   RheologyInputs in;
   in.resize(1);
   RheologyOutputs out;
   out.resize(1);
   in.strain_rate_sq[0] = 0.5 * (D * D);
   in.pressure[0] = p;
+  if (const auto* field = dynamic_cast<const FieldViscosity*>(setup_.viscosity))
+    field->fill_fields_at(cell, {unit}, in);
   setup_.viscosity->evaluate(in, out);
   PointState s;
   s.velocity = u;
@@ -77,5 +81,11 @@ PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p,
   s.inertial_number = out.inertial_number[0];
   s.stress = -p * unit_symmetric_tensor<dim>() + 2 * s.viscosity * D;
   return s;
+}
+
+PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, const Vec2& u,
+                                   const FEFaceValues<dim>& ffv, unsigned int q) const {
+  const Point2 unit = mapping_.transform_real_to_unit_cell(ffv.get_cell(), ffv.quadrature_point(q));
+  return make_state(D, p, u, ffv.get_cell(), GeometryInfo<dim>::project_to_unit_cell(unit));
 }
 }  // namespace grainlift::continuum::internal

@@ -272,7 +272,14 @@ class FlowProblem {
   /// dofs of boundary @p id, gathered on every rank.
   std::map<dealii::types::global_dof_index, double> boundary_reaction(
       dealii::types::boundary_id id) const;
-  PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u) const;
+  /// The state from D, p and u at the point @p unit (reference coordinates) of @p cell: a
+  /// FieldViscosity (the nonlocal model's) reads its field there.
+  PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u,
+                        const dealii::Triangulation<dim>::cell_iterator& cell,
+                        const Point2& unit) const;
+  /// make_state() at the point @p q of the face values @p ffv.
+  PointState make_state(const dealii::SymmetricTensor<2, dim>& D, double p, const Vec2& u,
+                        const dealii::FEFaceValues<dim>& ffv, unsigned int q) const;
   void log(const std::string& s) const { if (setup_.log) setup_.log(s); }
 
   int mpi_ready_;  ///< MPI is initialised before any Trilinos member is built

@@ -113,6 +113,25 @@ double MuIRheology::well_posedness(double I) const {
   return barker_criterion(mu, I * dfriction_dI(I) / mu);
 }
 
+void cap_viscosity(const RheologyParams& params, double& eta, double& deta_ds,
+                   double& deta_dp) {
+  if (eta > 20 * params.eta_max) {
+    eta = params.eta_max;
+    deta_ds = 0;
+    deta_dp = 0;
+  } else {
+    const double th = std::tanh(eta / params.eta_max), dcap = 1 - th * th;
+    eta = params.eta_max * th;
+    deta_ds *= dcap;
+    deta_dp *= dcap;
+  }
+  if (eta < params.eta_min) {
+    eta = params.eta_min;
+    deta_ds = 0;
+    deta_dp = 0;
+  }
+}
+
 void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const {
   const double d = p_.grain_diameter, rho_s = p_.solid_density, delta2 = p_.delta * p_.delta;
   for (std::size_t q = 0; q < in.size(); ++q) {
@@ -140,19 +159,7 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
       deta_ds = pe / (2 * gd) * dmu * dI_ds - mu * pe / (4 * gd * gd * gd);
       deta_dp = (mu - 0.5 * I * dmu) / (2 * gd) * dpe_dp;
     }
-    // smooth cap: eta_max tanh(eta / eta_max) (relative change (eta/eta_max)^2 / 3 when
-    // eta << eta_max); keeps Newton's Jacobian continuous where the cap switches on
-    if (eta > 20 * p_.eta_max) {
-      eta = p_.eta_max; deta_ds = 0; deta_dp = 0;
-    } else {
-      const double th = std::tanh(eta / p_.eta_max), dcap = 1 - th * th;
-      eta = p_.eta_max * th;
-      deta_ds *= dcap;
-      deta_dp *= dcap;
-    }
-    if (eta < p_.eta_min) {
-      eta = p_.eta_min; deta_ds = 0; deta_dp = 0;
-    }
+    cap_viscosity(p_, eta, deta_ds, deta_dp);
     out.viscosity[q] = eta;
     out.deta_dstrain_sq[q] = deta_ds;
     out.deta_dpressure[q] = deta_dp;

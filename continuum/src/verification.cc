@@ -2,6 +2,8 @@
 #include "grainlift/continuum/verification.h"
 
 #include <deal.II/base/function.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/grid/grid_generator.h>
@@ -275,7 +277,8 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
   return jacobian_on(tria, visc, inertia, friction_wall);
 }
 
-JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall) {
+JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall,
+                                      bool local_implicit) {
   Triangulation<dim> tria;
   GridGenerator::hyper_cube(tria, 0, 1, true);
   tria.refine_global(2);
@@ -288,7 +291,21 @@ JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool frictio
                              return 1 + x[0] + 0.5 * x[1];
                            }),
                            g);
-  const internal::FluidityViscosity visc(params, g_dofs, g);
+  internal::FluidityViscosity visc(params, g_dofs, g);
+  if (local_implicit) {
+    const QGauss<dim> quad(3);  // the assembly's
+    FEValues<dim> fev(fe, quad, update_quadrature_points);
+    std::vector<double> g_loc(tria.n_active_cells() * quad.size());
+    for (const auto& cell : g_dofs.active_cell_iterators()) {
+      fev.reinit(cell);
+      for (unsigned int q = 0; q < quad.size(); ++q) {
+        const Point2& x = fev.quadrature_point(q);
+        g_loc[cell->active_cell_index() * quad.size() + q] =
+            1.2 + 0.6 * std::cos(2 * M_PI * x[0]) * std::sin(M_PI * x[1]);
+      }
+    }
+    visc.set_local_fluidity(quad, std::move(g_loc));
+  }
   return jacobian_on(tria, visc, false, friction_wall);
 }
 

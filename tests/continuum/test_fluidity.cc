@@ -115,3 +115,36 @@ TEST(Fluidity, CooperativityLengthIsCappedNearTheYieldRatio) {
     }
   }
 }
+
+// The flow step's stress ratio (fluidity_law.h): gamma_dot = mu (g_loc(mu, p) + excess) has one
+// root wherever g_loc + excess stays positive, so mu -> gamma_dot -> mu must return mu on every
+// branch: below yield (g_loc = 0, excess > 0), on Jop's inverse law (excess of either sign,
+// down to -0.9 g_loc) and above the cap I = 1 (g_loc constant). Jop's glass beads (mu_s 0.38,
+// mu_2 0.64, I0 0.279, rho_s 2500, d 0.02 m), p = 2000 Pa: mu back to 1e-12, and d mu /
+// d gamma_dot and d mu / dp within 1e-5 of central differences.
+TEST(Fluidity, StressRatioAtFluidityInvertsTheFlowRule) {
+  const grainlift::FluidityMaterial m{0.38, 0.64, 0.279, 2500, 0.02};
+  const double p = 2000;
+  int checked = 0;
+  for (double mu : {0.05, 0.2, 0.37, 0.381, 0.45, 0.55, 0.62, 0.635, 0.7, 1.2}) {
+    const double g_loc = grainlift::local_fluidity(mu, p, m);
+    for (double excess : {-0.9 * g_loc, -0.3 * g_loc, 0.0, 0.05, 2.0, 30.0}) {
+      if (!(g_loc + excess > 0)) continue;  // no flow at this mu
+      const double rate = mu * (g_loc + excess);
+      const grainlift::FluidityStressRatio s =
+          grainlift::stress_ratio_at_fluidity(rate, p, excess, m);
+      EXPECT_NEAR(s.mu, mu, 1e-12) << "mu " << mu << " excess " << excess;
+      const double h = 1e-6 * rate, hp = 1e-6 * p;
+      const double d_rate = (grainlift::stress_ratio_at_fluidity(rate + h, p, excess, m).mu -
+                             grainlift::stress_ratio_at_fluidity(rate - h, p, excess, m).mu) /
+                            (2 * h);
+      const double d_p = (grainlift::stress_ratio_at_fluidity(rate, p + hp, excess, m).mu -
+                          grainlift::stress_ratio_at_fluidity(rate, p - hp, excess, m).mu) /
+                         (2 * hp);
+      EXPECT_NEAR(s.dmu_drate, d_rate, 1e-5 * std::abs(d_rate) + 1e-12) << mu << " " << excess;
+      EXPECT_NEAR(s.dmu_dp, d_p, 1e-5 * std::abs(d_p) + 1e-12) << mu << " " << excess;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 40);
+}

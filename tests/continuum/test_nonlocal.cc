@@ -53,17 +53,23 @@ ContinuumOutput nonlocal(double amplitude, double tolerance = 2e-3) {
 // gamma_dot: Jop's local law. At A = 0.01 (xi = 0.1 d at |mu - mu_s| = 0.01, far below the
 // cell size D / 8) the Q2 fluidity smears g_loc's jump at mu_s over a cell, so the limit holds
 // only roughly on this mesh: the drag and the torque within 3% of the local solver's
-// (measured 1.5% and 0.4%), the lift not (12% of itself: the creeping side sets it).
+// (measured 0.9% and 0.1%), the lift not (11% of itself: the creeping side sets it).
 // Cooperativity spreads fluidity from the sheared layer into the creeping bed (Kamrin & Koval
 // 2012; the secondary rheology of Reddy et al. 2011): the bed round the intruder softens and
 // the drag falls, the more the longer xi. At A = 0.5 and 1 (xi = 5 d and 10 d at |mu - mu_s|
 // = 0.01, capped at D) the splitting must settle (force and torque still to 2e-3 in two
-// iterations running) with the drag at least 3% below the A = 0.01 value (measured 9%), and
-// lower at A = 1 than at 0.5.
+// iterations running) with the drag at least 3% below the A = 0.01 value (measured 8%), and
+// lower at A = 1 than at 0.5. The surface integral of sigma.n, whose stress reads g at the
+// faces' points, is a second estimate of the force: where xi spans cells (A = 0.5, 1) the
+// stress at the surface is smooth and it is within 5% of the consistent reaction (measured
+// 0.8-1.1%; 150x off while the faces' points read the floor g_min). On this coarse mesh the
+// local law's and A = 0.01's are 14% and 25% off (sigma(grad u_h).n converges slowly): not
+// asserted.
 TEST(NonlocalFluidity, LocalLimitAndCooperativitySoftensTheBed) {
   const ContinuumOutput local = solve_flow(spinning_case());
   ASSERT_TRUE(local.converged) << local.message;
-  std::printf("local: F = (%.6g, %.6g) N/m, T = %.6g N\n", local.fx, local.fy, local.torque);
+  std::printf("local: F = (%.6g, %.6g) N/m, T = %.6g N, surface integral (%.6g, %.6g)\n",
+              local.fx, local.fy, local.torque, local.force_fx_surface, local.force_fy_surface);
   const ContinuumOutput near = nonlocal(0.01, 5e-3);
   EXPECT_NEAR(near.fx, local.fx, 0.03 * std::abs(local.fx));
   EXPECT_NEAR(near.torque, local.torque, 0.03 * std::abs(local.torque));
@@ -74,6 +80,13 @@ TEST(NonlocalFluidity, LocalLimitAndCooperativitySoftensTheBed) {
   }
   EXPECT_LT(-a05.fx, 0.97 * -near.fx);
   EXPECT_LT(-a1.fx, -a05.fx);
+  for (const ContinuumOutput* out : {&a05, &a1}) {
+    std::printf("reaction (%.6g, %.6g), surface integral (%.6g, %.6g) N/m\n", out->fx, out->fy,
+                out->force_fx_surface, out->force_fy_surface);
+    const double F = std::hypot(out->fx, out->fy);
+    EXPECT_LT(std::hypot(out->force_fx_surface - out->fx, out->force_fy_surface - out->fy),
+              0.05 * F);
+  }
 }
 
 // The splitting solves gravity in full and runs on one rank: the linearised treatment is
@@ -107,13 +120,15 @@ TEST(NonlocalFluidity, FlowStepJacobianMatchesFiniteDifferences) {
   p.delta = 0.1;  // g_min = 2 delta / mu_s = 0.53 1/s, below the field's 1 to 2.5
   p.eta_max = 1e6;
   p.eta_min = 1e-8;
-  for (const bool wall : {false, true}) {
-    const verification::JacobianCheck c = verification::check_jacobian_fluidity(p, wall);
-    std::printf("fluidity flow step Jacobian, wall=%d: relative error %.2e\n", wall,
-                c.relative_error());
-    EXPECT_GT(c.max_abs_reference, 0);
-    EXPECT_LT(c.relative_error(), 1e-6) << "wall " << wall;
-  }
+  for (const bool implicit : {false, true})
+    for (const bool wall : {false, true}) {
+      const verification::JacobianCheck c =
+          verification::check_jacobian_fluidity(p, wall, implicit);
+      std::printf("fluidity flow step Jacobian, wall=%d, local part implicit=%d: relative "
+                  "error %.2e\n", wall, implicit, c.relative_error());
+      EXPECT_GT(c.max_abs_reference, 0);
+      EXPECT_LT(c.relative_error(), 1e-6) << "wall " << wall << " implicit " << implicit;
+    }
 }
 
 namespace {

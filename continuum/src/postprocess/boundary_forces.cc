@@ -62,7 +62,7 @@ ForceTorque FlowProblem::surface_integral(types::boundary_id id, const Point2& c
       ffv[kPressure].get_function_values(state, p);
       ffv[kVelocity].get_function_values(state, u);
       for (unsigned int q = 0; q < fquad.size(); ++q) {
-        const PointState s = make_state(sym[q], p[q], u[q]);
+        const PointState s = make_state(sym[q], p[q], u[q], ffv, q);
         const Vec2 n_body = -ffv.normal_vector(q);  // outward normal of the body
         const Vec2 t = s.stress * n_body;
         const Vec2 arm = ffv.quadrature_point(q) - centre;

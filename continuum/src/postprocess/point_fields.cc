@@ -69,7 +69,7 @@ std::vector<PointState> FlowProblem::point_states(const std::vector<Point2>& poi
     fv[kVelocity].get_function_symmetric_gradients(state, sym);
     fv[kPressure].get_function_values(state, p);
     fv[kVelocity].get_function_values(state, u);
-    local[k] = make_state(sym[0], p[0], u[0]);
+    local[k] = make_state(sym[0], p[0], u[0], cell, q.point(0));
     owner[k] = me;
   }
   found.assign(n, 0);

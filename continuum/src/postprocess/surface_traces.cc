@@ -75,7 +75,7 @@ PointState FlowProblem::boundary_state(types::boundary_id id, const Point2& cent
                             ffv[kVelocity].get_function_symmetric_gradients(state, sym);
                             ffv[kPressure].get_function_values(state, p);
                             ffv[kVelocity].get_function_values(state, u);
-                            const PointState st = make_state(sym[0], p[0], u[0]);
+                            const PointState st = make_state(sym[0], p[0], u[0], ffv, 0);
                             const double v[13] = {st.stress[0][0],
                                                   st.stress[0][1],
                                                   st.stress[1][1],

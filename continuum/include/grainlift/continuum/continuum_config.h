@@ -50,7 +50,7 @@ struct NonlocalParams {
   int max_iterations = 60;   ///< splitting iterations (fluidity solve, then flow solve)
   /// stop when the force and the torque move by less than this (relative) in two iterations
   double tolerance = 2e-3;
-  double relaxation = 0.2;   ///< w of the Anderson mixing of log g (nonlocal_coupling.cc)
+  double relaxation = 1.0;   ///< w of the Anderson mixing of log g (nonlocal_coupling.cc)
 };
 /// Schur complement approximation S ~ B A^{-1} B^T of the amg preconditioner.
 enum class SchurApproximation {

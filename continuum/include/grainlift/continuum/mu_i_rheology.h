@@ -16,6 +16,9 @@ struct RheologyInputs {
   /// 1/s, the nonlocal fluidity g at the points (empty for the local laws; filled by the
   /// nonlocal model itself)
   std::vector<double> fluidity;
+  /// 1/s, g - g_loc of the previous flow at the points, where the nonlocal model has it (empty
+  /// elsewhere): the flow step then takes g_loc at its own stress ratio (fluidity_viscosity.h)
+  std::vector<double> fluidity_excess;
   void resize(std::size_t n) { strain_rate_sq.resize(n); pressure.resize(n); }
   std::size_t size() const { return pressure.size(); }
 };
@@ -32,6 +35,13 @@ struct RheologyOutputs {
     friction.resize(n); inertial_number.resize(n);
   }
 };
+
+/// @brief The cap and floor of the granular viscosities (MuIRheology's, the nonlocal flow
+/// step's): eta <- eta_max tanh(eta / eta_max) (relative change (eta/eta_max)^2 / 3 well below
+/// the cap; keeps Newton's Jacobian continuous; eta_max beyond 20 eta_max), then eta_min with
+/// zero derivatives below it. @p deta_ds, @p deta_dp are scaled alike.
+void cap_viscosity(const RheologyParams& params, double& eta, double& deta_ds,
+                   double& deta_dp);
 
 /// @brief Interface of a generalised-Newtonian viscosity eta(|D|^2, p).
 class ViscosityModel {

@@ -65,7 +65,11 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
 /// (FluidityViscosity) with a fixed smooth fluidity g = 1 + x + y / 2 (1/s, Q2 on the mesh),
 /// so d eta / dp = 1 / g and d eta / d|D|^2 = 0; no inertia, a Coulomb wall when
 /// @p friction_wall. @p params: delta below mu_s / 2 (so g stays above g_min = 2 delta / mu_s).
-JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall);
+/// With @p local_implicit the previous g_loc is set too (1.2 + 0.6 cos(2 pi x) sin(pi y) at the
+/// assembly's points, an excess g - g_loc of either sign) and the step solves gamma_dot =
+/// mu (g_loc(mu, p) + excess) for mu: eta depends on |D|^2 and p through mu.
+JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall,
+                                      bool local_implicit = false);
 
 /// Steady mu(I) layer down an incline of slope theta with an overburden P_top and a shear
 /// traction P_top tan(theta) on its surface, so that tau / p = tan(theta) everywhere:

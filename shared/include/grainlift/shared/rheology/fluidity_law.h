@@ -33,4 +33,24 @@ constexpr double kMaxLocalFluidityInertial = 1.0;
 /// Jop's law for mu > mu_s (0 below or where p <= 0), capped at I = min(1, 999 I0).
 double local_fluidity(double mu, double p, const FluidityMaterial& m);
 
+/// The stress ratio of a flow whose fluidity is the local one plus a given excess, and its
+/// derivatives (the flow step of the continuum's splitting, nonlocal_coupling.cc).
+struct FluidityStressRatio {
+  double mu = 0;         ///< stress ratio
+  double dmu_drate = 0;  ///< d mu / d gamma_dot (s)
+  double dmu_dp = 0;     ///< d mu / d p (1/Pa)
+};
+
+/// @brief mu such that gamma_dot = mu (g_loc(mu, p) + @p excess), g_loc the local_fluidity()
+/// above: the nonlocal model's gamma_dot = g mu with the local part of g taken at the flow's own
+/// stress ratio and the nonlocal part (g - g_loc) given. h(mu) = mu (g_loc + excess) rises
+/// wherever it is positive, so the root is unique when g_loc(mu_cap) + excess > 0 (the caller's
+/// g is floored above 0); the pieces: mu <= mu_s (g_loc = 0: mu = gamma_dot / excess), the
+/// inverse of Jop's law (a safeguarded Newton in I), mu >= mu(I_cap) (g_loc constant).
+/// @param rate gamma_dot (1/s, > 0); p pressure (Pa, > 0); excess g - g_loc (1/s, any sign)
+/// @return mu and its derivatives in @p rate and @p p at fixed @p excess; mu = 0 and zero
+/// derivatives when @p rate or @p p is not positive or no root exists
+FluidityStressRatio stress_ratio_at_fluidity(double rate, double p, double excess,
+                                             const FluidityMaterial& m);
+
 }  // namespace grainlift
