@@ -168,9 +168,9 @@ double annular_width(double grain_diameter, ContinuumModel model) {
 // nonlocal model spreads it by the cooperativity length xi = A d / sqrt|mu - mu_s|, which grows
 // with d (Kamrin & Koval 2012: the width of a shear band in a split-bottom or annular cell
 // grows with d). At A = 0.5, doubling d (0.01 to 0.02 m) must widen the nonlocal layer's excess
-// over the local one by more than 1.5x (xi proportional to d gives 2; measured 22.5 to 50 mm,
-// 2.2x, at refinement 1 sampled every 2.5 mm), and the nonlocal layer must be wider than the
-// local one at both sizes (measured 45 and 75 mm against 22.5 and 25 mm).
+// over the local one by more than 1.5x (xi proportional to d gives 2; measured 25 to 52.5 mm,
+// 2.1x, at refinement 1 sampled every 2.5 mm), and the nonlocal layer must be wider than the
+// local one at both sizes (measured 47.5 and 77.5 mm against 22.5 and 25 mm).
 TEST(NonlocalFluidity, AnnularShearLayerWidensWithTheGrainSize) {
   const double local1 = annular_width(0.01, ContinuumModel::local);
   const double local2 = annular_width(0.02, ContinuumModel::local);
