@@ -71,6 +71,25 @@ JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool fr
 JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall,
                                       bool local_implicit = false);
 
+/// Errors of the nonlocal fluidity's coupled manufactured solution on the unit square.
+struct CoupledManufacturedResult {
+  double h = 0;                         ///< cell size
+  double velocity_l2 = 0, pressure_l2 = 0;
+  double fluidity_l2 = 0, fluidity_h1 = 0;
+  int iterations = 0;                   ///< alternations of flow and fluidity solves
+  bool converged = false;               ///< |dg| <= 1e-8 |g| between two alternations
+};
+
+/// @brief The coupled system of the nonlocal fluidity model with known fields: u a uniform
+/// shear plus a Taylor-Green cell, p = 2 + cos(pi x) cos(pi y) / 2, g = 1.5 + 0.4 sin(pi x)
+/// cos(pi y / 2); the flow with eta = p+ / g_h (FluidityViscosity) and -div sigma of the exact
+/// fields as body force, the fluidity with xi(mu_h) (A = 0.5, xi capped at 0.5) and g_loc(mu_h,
+/// p_h) plus the exact fields' residual as source, g exact on the boundary; Q2-Q1 and Q2 on
+/// 2^refinement cells per side; solved by alternating the two solves from g = 1.5 (@p params:
+/// mu_s below 0.26 and mu(I = 1) above 0.73, the exact mu's range).
+CoupledManufacturedResult manufactured_coupled_fluidity(int refinement,
+                                                        const RheologyParams& params);
+
 /// Steady mu(I) layer down an incline of slope theta with an overburden P_top and a shear
 /// traction P_top tan(theta) on its surface, so that tau / p = tan(theta) everywhere:
 /// I = I_beta = mu^{-1}(tan theta) and u(z) = 2 I_beta / (3 d sqrt(rho_s) G)
