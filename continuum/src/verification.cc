@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "flow_problem.h"
+#include "manufactured_forcing.h"
 #include "fluidity/fluidity_viscosity.h"
 #include "grainlift/continuum/mu_i_rheology.h"
 
@@ -152,16 +153,8 @@ ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
   };
   // f = -div sigma by central differences of the exact stress (error ~1e-10)
   setup.body_force = [&visc, p_exact](const Point2& x) {
-    const double h = 1e-5;
-    Vec2 f;
-    for (unsigned int j = 0; j < dim; ++j) {
-      Point2 xp = x, xm = x;
-      xp[j] += h;
-      xm[j] -= h;
-      const Grad ds = (exact_stress(visc, xp, p_exact) - exact_stress(visc, xm, p_exact)) / (2 * h);
-      for (unsigned int i = 0; i < dim; ++i) f[i] -= ds[i][j];
-    }
-    return f;
+    return internal::minus_divergence(
+        [&](const Point2& y) { return exact_stress(visc, y, p_exact); }, x);
   };
   // start from rest at the mean pressure (not from the answer)
   const double p_mean = p_exact(Point2(0.5, 0.5));

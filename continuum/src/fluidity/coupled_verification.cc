@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "flow_problem.h"
+#include "manufactured_forcing.h"
 #include "fluidity/fluidity_problem.h"
 #include "fluidity/fluidity_viscosity.h"
 #include "grainlift/continuum/verification.h"
@@ -127,16 +128,7 @@ CoupledManufacturedResult manufactured_coupled_fluidity(int refinement,
   for (const types::boundary_id id : {0, 2, 3}) setup.bc.dirichlet[id] = exact_u;
   setup.bc.traction[1] = [](const Point2& x, const Vec2& n) { return Vec2(exact_stress(x) * n); };
   setup.body_force = [](const Point2& x) {  // -div sigma by central differences (~1e-10)
-    const double h = 1e-5;
-    Vec2 f;
-    for (unsigned int j = 0; j < dim; ++j) {
-      Point2 xp = x, xm = x;
-      xp[j] += h;
-      xm[j] -= h;
-      const Grad ds = (exact_stress(xp) - exact_stress(xm)) / (2 * h);
-      for (unsigned int i = 0; i < dim; ++i) f[i] -= ds[i][j];
-    }
-    return f;
+    return internal::minus_divergence(exact_stress, x);
   };
   setup.initial_pressure = [](const Point2&) { return 2.0; };
   setup.nonlinear.relative_tolerance = 1e-12;
