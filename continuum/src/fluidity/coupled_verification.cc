@@ -100,7 +100,8 @@ CoupledManufacturedResult manufactured_coupled_fluidity(int refinement,
   std::vector<double> g_loc_points;
   fluidity::internal::FluiditySetup fs;
   fs.coefficients = [&](const fluidity::internal::CellIterator& cell,
-                        const std::vector<Point2>& points, fluidity::internal::CellCoefficients& c) {
+                        const std::vector<Point2>& points,
+                        fluidity::internal::CellCoefficients& c) {
     const DoFHandler<dim>::active_cell_iterator fc(&tria, cell->level(), cell->index(),
                                                    &flow->dof_handler());
     flow_values->reinit(fc);
