@@ -85,6 +85,9 @@ PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, c
 
 PointState FlowProblem::make_state(const SymmetricTensor<2, dim>& D, double p, const Vec2& u,
                                    const FEFaceValues<dim>& ffv, unsigned int q) const {
+  // the point's reference coordinates only where a field is read there (an inverse mapping)
+  if (!dynamic_cast<const FieldViscosity*>(setup_.viscosity))
+    return make_state(D, p, u, ffv.get_cell(), Point2());
   const Point2 unit = mapping_.transform_real_to_unit_cell(ffv.get_cell(), ffv.quadrature_point(q));
   return make_state(D, p, u, ffv.get_cell(), GeometryInfo<dim>::project_to_unit_cell(unit));
 }

@@ -236,9 +236,10 @@ bool CylinderProblem::nonlocal_flow_step(int k, std::vector<double> g_loc) {
   // p+ / g_k, threw the splitting back: 28 iterations and more, |dg|/|g| up to 4.)
   NonlinearSettings step_settings = setup_.nonlinear;
   if (k > 2) step_settings.picard_iterations = 0;
-  const VectorType previous = problem_->solution();
+  const bool retry = step_settings.picard_iterations == 0;
+  const VectorType previous = retry ? problem_->solution() : VectorType();
   problem_->solve_nonlinear(step_settings);
-  if (!problem_->report().converged && step_settings.picard_iterations == 0) {
+  if (!problem_->report().converged && retry) {
     say("continuum: the flow step without Picard steps did not converge; again with them");
     problem_->solution() = previous;
     problem_->solve_nonlinear(setup_.nonlinear);
