@@ -300,6 +300,14 @@ class FlowProblem {
   // ---- direct solver: MUMPS on the whole matrix (the blocks copied into it)
   dealii::TrilinosWrappers::SparseMatrix direct_matrix_;
   bool direct_memory_checked_ = false;  ///< memory checked for this mesh's direct solve
+  /// MUMPS with its analysis of this mesh's matrix, kept between solves (direct_solver.cc)
+  struct DirectFactorization;
+  struct DirectFactorizationDeleter {
+    void operator()(DirectFactorization* d) const;
+  };
+  std::unique_ptr<DirectFactorization, DirectFactorizationDeleter> direct_;
+  /// DirectFactorization::destination for this mesh's blocks (direct_solver.cc)
+  void map_blocks_into_direct_matrix();
   // ---- block preconditioner (LinearSolver::amg)
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;

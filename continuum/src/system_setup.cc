@@ -183,6 +183,7 @@ void FlowProblem::setup_system() {
     TrilinosWrappers::SparsityPattern full(owned, owned, writable, comm_);
     DoFTools::make_sparsity_pattern(dof_handler_, full, zero_constraints_, false);
     full.compress();
+    direct_.reset();  // MUMPS holds the old matrix: a new pattern is analysed again
     direct_matrix_.reinit(full);
     direct_memory_checked_ = false;
   } else {
