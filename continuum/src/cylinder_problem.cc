@@ -42,6 +42,10 @@ ContinuumOutput CylinderProblem::run() {
   schedule_continuation();
   fail_here_if_requested("before the nonlinear solve");  // test hook (fault_injection.h)
   solve_with_continuation();
+  // the nonlocal fluidity on every nested level, each from the coarser one's (g, flow)
+  const bool nonlocal = config_.model == ContinuumModel::nonlocal_fluidity;
+  const bool nonlocal_nested = nonlocal && nested && config_.adaptive_cycles == 0;
+  if (nonlocal_nested && problem_->report().converged) solve_nonlocal_fluidity();
   if (nested) record_level(0, level_start);
   // before each refinement: a signal stops the study on the converged mesh
   // (ContinuumConfig::stop_refining); otherwise that mesh's result is handed out first, so a
@@ -71,14 +75,12 @@ ContinuumOutput CylinderProblem::run() {
     schedule_after_refinement();
     solve_with_continuation();
   }
-  if (config_.model == ContinuumModel::nonlocal_fluidity && problem_->report().converged &&
-      !out_.interrupted)
+  if (nonlocal && !nonlocal_nested && problem_->report().converged && !out_.interrupted)
     solve_nonlocal_fluidity();
   out_.continuation_splits = splits_;
   if (linearised_) correct_for_gravity();
   report_convergence();
-  if (config_.model == ContinuumModel::nonlocal_fluidity && out_.converged &&
-      !out_.interrupted && !out_.nonlocal_settled) {
+  if (nonlocal && out_.converged && !out_.interrupted && !out_.nonlocal_settled) {
     std::ostringstream os;
     os << "the nonlocal fluidity did not settle in " << out_.nonlocal_iterations
        << " iterations (the forces still move by " << out_.nonlocal_force_change

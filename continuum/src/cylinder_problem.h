@@ -3,6 +3,7 @@
 // deal.II: never include it from a public header.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <deque>
 #include <functional>
@@ -76,7 +77,17 @@ class CylinderProblem {
   /// The splitting's flow step @p k with the previous flow's g_loc at the fluidity's points
   /// (FluidityViscosity::set_local_fluidity), its outputs and its line; false when the flow
   /// did not converge.
-  bool nonlocal_flow_step(int k, std::vector<double> g_loc);
+  bool nonlocal_flow_step(int k, bool with_picard, std::vector<double> g_loc);
+  /// The flow step @p k again from @p flow_before with the fluidity's step halved (g halfway
+  /// back to @p g_before), up to four times; false when none converged.
+  bool nonlocal_flow_step_halved(int k, bool with_picard, const std::vector<double>& g_loc,
+                                 const dealii::Vector<double>& g_before,
+                                 const VectorType& flow_before);
+  /// Whether the force and torque of out_ moved by less than the splitting's tolerance since
+  /// @p last (updated; out_.nonlocal_force_change set).
+  bool nonlocal_forces_still(std::array<double, 3>& last);
+  /// fluidity_table_ at the fluidity's quadrature points of every active cell
+  std::vector<double> carried_table() const;
   /// The problem whose state is post-processed: the gravity-corrected one when there is one.
   const FlowProblem& post() const { return corrected_ ? *corrected_ : *problem_; }
   void say(const std::string& s) const;
@@ -111,6 +122,9 @@ class CylinderProblem {
   // nonlocal fluidity (solve_nonlocal_fluidity()): the g problem, its field, the viscosity
   std::unique_ptr<fluidity::internal::FluidityProblem> fluidity_;
   dealii::Vector<double> fluidity_g_;
+  /// the last flow step's g_loc table projected on g's space: carried with g to the next
+  /// nested level (refine_flagged_cells()), where carried_table() gives it at the points
+  dealii::Vector<double> fluidity_table_;
   std::unique_ptr<FluidityViscosity> fluidity_viscosity_;
 
   ContinuumOutput out_;

@@ -14,6 +14,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <utility>
 #include <sstream>
 
 #include "fault_injection.h"
@@ -69,9 +71,29 @@ void CylinderProblem::refine_flagged_cells() {
     const VectorType old_solution = problem_->solution();
     tria.prepare_coarsening_and_refinement();
     transfer.prepare_for_coarsening_and_refinement(old_solution);
+    // the nonlocal fluidity's g (one rank only) goes with the flow: the next level starts
+    // from the coarser one's converged pair (solve_nonlocal_fluidity())
+    const bool with_g = fluidity_ && fluidity_g_.size() == fluidity_->dof_handler().n_dofs() &&
+                        fluidity_table_.size() == fluidity_g_.size();
+    std::unique_ptr<SolutionTransfer<dim, Vector<double>>> g_transfer;
+    const std::vector<Vector<double>> g_old =
+        with_g ? std::vector<Vector<double>>{fluidity_g_, fluidity_table_}
+               : std::vector<Vector<double>>();
+    if (with_g) {
+      g_transfer = std::make_unique<SolutionTransfer<dim, Vector<double>>>(
+          fluidity_->dof_handler());
+      g_transfer->prepare_for_coarsening_and_refinement(g_old);
+    }
     tria.execute_coarsening_and_refinement();
     problem_->setup_system();
     transfer.interpolate(old_solution, problem_->solution());
+    if (with_g) {
+      fluidity_->setup_system();
+      std::vector<Vector<double>> carried(2, Vector<double>(fluidity_->dof_handler().n_dofs()));
+      g_transfer->interpolate(g_old, carried);
+      fluidity_g_ = std::move(carried[0]);
+      fluidity_table_ = std::move(carried[1]);
+    }
   }
   problem_->nonzero_constraints().distribute(problem_->solution());
 }
@@ -92,6 +114,11 @@ void CylinderProblem::solve_next_level(int level) {
        << problem_->dof_handler().n_dofs() << " dofs, from the interpolated level "
        << level - 1;
     say(os.str());
+  }
+  // the nonlocal fluidity from the coarser level's g and flow: no local solve between
+  if (config_.model == ContinuumModel::nonlocal_fluidity && fluidity_) {
+    solve_nonlocal_fluidity();
+    return;
   }
   done_delta_ = -1;  // no split of the final stage: the fallback below instead
   // (measured on the demo at refinement 2: the last one or two stages before the final, or

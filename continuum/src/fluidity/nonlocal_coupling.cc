@@ -1,5 +1,6 @@
 // CylinderProblem::solve_nonlocal_fluidity(): the nonlocal granular fluidity model (Kamrin &
-// Koval 2012) on the cylinder problem, by splitting from the converged local mu(I) state:
+// Koval 2012) on the cylinder problem, by splitting, on every nested level (each from the
+// coarser level's converged g, flow and table; the coarsest from the local mu(I) state):
 //
 //   1. mu = |tau| / p and p at the quadrature points of the current flow (the local law's at
 //      the first iteration);
@@ -8,14 +9,20 @@
 //      with the previous iterates;
 //   3. the flow with g = g_loc(mu) + (g_k - g_loc(mu_prev)): the local part at the flow's own
 //      stress ratio, the nonlocal excess held (FluidityViscosity's implicit form; Newton from
-//      the previous flow). At the fixed point eta = p+ / g_k. Holding all of g instead (eta =
-//      p+ / g_k) made the splitting a Picard iteration of the local law's stiff dependence on
-//      the strain rate: on the demo at A = 0.21 it wandered for 44-60 iterations or failed;
+//      the previous flow; a step that fails is retried with half the fluidity's step). At the
+//      fixed point eta = p+ / g_k. Holding all of g instead (eta = p+ / g_k) made the splitting
+//      a Picard iteration of the local law's stiff dependence on the strain rate: on the demo
+//      at A = 0.21 it wandered for 44-60 iterations or failed;
 //
 // until the force and the torque move by less than the tolerance in two iterations running
 // (|g_k - g_(k-1)| / |g_k| is reported). g_loc is the inverse of Jop's law, I(mu), capped at
 // I = 1, and g_loc = gamma_dot / mu = I sqrt(p / rho_s) / (d mu); with xi -> 0, g = g_loc and
 // eta = p / g_loc = mu(I) p / gamma_dot, the local law (up to I = 1).
+//
+// Measured on the demo at refinement 3 (A 0.206, Omega 2, one thread, AVX-512): on the finest
+// level alone, from the local law's state, 15 iterations (142 s at 4b1dca6); nested, 39 + 6 +
+// 6 + 3 iterations at levels 0-3 (11.7 s; the local law 7.1 s). Mixing in g instead of log g
+// (floored at g_min) took 15 + 7 + 11 + 4 (14.8 s).
 #include <deal.II/fe/fe_values.h>
 
 #include <algorithm>
@@ -56,7 +63,7 @@ double local_fluidity(double mu, double p, const RheologyParams& r) {
 /// which is the relaxed step g + w f when m = 0. On the demo the plain relaxed iteration of g
 /// oscillated (w = 0.5: |dg|/|g| between 0.5 and 1.1 after 40 iterations) or crept (w = 0.2:
 /// 0.023 after 40), and the plain relaxed iteration of log g diverged at Omega 0 (w = 0.3:
-/// the flow's Newton failed at iteration 3).
+/// the flow's Newton failed at iteration 3) (with the lagged flow step of a546042).
 class AndersonMixing {
  public:
   AndersonMixing(unsigned int depth, double relaxation) : m_(depth), w_(relaxation) {}
@@ -131,6 +138,37 @@ class AndersonMixing {
 };
 
 constexpr unsigned int kAndersonDepth = 5;
+/// Newton steps a flow step may take (5-18 where it converges, demo refinements 2 and 3);
+/// one that needs more is retried with half the fluidity's step
+constexpr int kFlowStepIterations = 25;
+
+/// One step of @p mixing from the iterate @p g to its image @p image = G(g), in log g (g spans
+/// decades and must stay positive; both floored at FluidityViscosity's @p g_min); the history
+/// restarts after a step that made the residual grow more than twofold (@p last_residual).
+void mix_in_log(AndersonMixing& mixing, Vector<double>& g, const Vector<double>& image,
+                double g_min, double& last_residual) {
+  Vector<double> x(g.size()), f(g.size());
+  for (unsigned int i = 0; i < g.size(); ++i) {
+    x[i] = std::log(std::max(g[i], g_min));
+    f[i] = std::log(std::max(image[i], g_min)) - x[i];
+  }
+  if (f.l2_norm() > 2 * last_residual) mixing.restart();
+  last_residual = f.l2_norm();
+  mixing.step(x, f);
+  for (unsigned int i = 0; i < x.size(); ++i) g[i] = std::exp(x[i]);
+}
+
+/// The coefficients of the L2 projection of @p table (the flow step's g_loc at the points of
+/// every cell) on g's space: g_loc the table, xi a thousandth of a grain @p d (the gradient
+/// term ~(xi / h)^2 < 1e-5 of the mass term on these meshes; xi = 0 divides by zero).
+void projection_coefficients(const fluidity::internal::CellIterator& cell,
+                             const std::vector<double>& table, double d,
+                             fluidity::internal::CellCoefficients& c) {
+  for (unsigned int q = 0; q < c.xi.size(); ++q) {
+    c.xi[q] = 1e-3 * d;
+    c.g_loc[q] = table[cell->active_cell_index() * c.xi.size() + q];
+  }
+}
 
 }  // namespace
 
@@ -138,6 +176,10 @@ void CylinderProblem::solve_nonlocal_fluidity() {
   const RheologyParams& r = config_.rheology;
   const NonlocalParams& nl = config_.nonlocal;
   const double xi_max = nl.xi_max > 0 ? nl.xi_max : 2 * R_;
+  // a nested level after a coarser one's: g interpolated from it (refine_flagged_cells()) and
+  // the flow its interpolated state, a near pair; otherwise from the local law's flow
+  const bool carried = fluidity_ && fluidity_g_.size() == fluidity_->dof_handler().n_dofs();
+  out_.nonlocal_settled = false;
   // the flow's state and model seen by the fluidity's coefficients (the local law first)
   const ViscosityModel* flow_model = &rheology_;
   VectorType ghosted = problem_->ghosted(problem_->solution());
@@ -145,9 +187,11 @@ void CylinderProblem::solve_nonlocal_fluidity() {
   std::unique_ptr<FEValues<dim>> flow_values;
   std::unique_ptr<QuadratureRheology> qr;
   std::vector<double> g_loc_points;  // the flow step's table (fluidity_viscosity.h)
+  bool projecting = false;  // the table's L2 projection (projection_coefficients())
   fs.coefficients = [&](const fluidity::internal::CellIterator& cell,
                         const std::vector<fluidity::internal::Point2>&,
                         fluidity::internal::CellCoefficients& c) {
+    if (projecting) return projection_coefficients(cell, g_loc_points, r.grain_diameter, c);
     const typename DoFHandler<dim>::active_cell_iterator flow_cell(
         &mesh_->tria(), cell->level(), cell->index(), &problem_->dof_handler());
     flow_values->reinit(flow_cell);
@@ -170,80 +214,113 @@ void CylinderProblem::solve_nonlocal_fluidity() {
       update_values | update_gradients);
   qr = std::make_unique<QuadratureRheology>(fluidity_->quadrature().size());
   g_loc_points.assign(mesh_->tria().n_active_cells() * fluidity_->quadrature().size(), 0.0);
-  fluidity_g_.reinit(fluidity_->dof_handler().n_dofs());
+  // carried: the same mesh and element as the g carried over, the same numbering
+  if (!carried) fluidity_g_.reinit(fluidity_->dof_handler().n_dofs());
   fluidity_viscosity_ =
       std::make_unique<FluidityViscosity>(r, fluidity_->dof_handler(), fluidity_g_);
-
-  // the mixing works on log g (g spans decades and must stay positive); g_min the floor of
-  // FluidityViscosity
-  const double g_floor = fluidity_viscosity_->g_min();
-  auto log_of = [&](const Vector<double>& g) {
-    Vector<double> x(g.size());
-    for (unsigned int i = 0; i < g.size(); ++i) x[i] = std::log(std::max(g[i], g_floor));
-    return x;
-  };
+  if (carried) {
+    // the flow's own stress ratio needs the coarser level's table too: the lagged form's,
+    // gamma_dot / g, sent g_loc to its cap where g_loc is steep (|G(g) - g| / |g| = 0.8)
+    g_loc_points = carried_table();
+    fluidity_viscosity_->set_local_fluidity(fluidity_->quadrature(), g_loc_points);
+    flow_model = fluidity_viscosity_.get();
+  }
   AndersonMixing mixing(kAndersonDepth, nl.relaxation);
-  Vector<double> x;  // log g of the iterate
   double last_residual = 0;
-  std::array<double, 3> last_force = {0, 0, 0};
   int settled_runs = 0;
+  std::array<double, 3> last_force = {0, 0, 0};
   for (int k = 1; k <= nl.max_iterations; ++k) {
     fluidity_->assemble_system();
     fluidity_->solve();
-    Vector<double> change(fluidity_->solution());  // G(g_(k-1)) - g_(k-1)
-    change -= fluidity_g_;
-    out_.nonlocal_change = change.l2_norm() / std::max(fluidity_->solution().l2_norm(), 1e-300);
+    Vector<double> f(fluidity_->solution());  // G(g_(k-1)) - g_(k-1)
+    f -= fluidity_g_;
+    out_.nonlocal_change = f.l2_norm() / std::max(fluidity_->solution().l2_norm(), 1e-300);
     out_.nonlocal_iterations = k;
-    if (k == 1) {
+    const Vector<double> g_before = fluidity_g_;
+    const VectorType flow_before = problem_->solution();
+    if (k == 1 && !carried) {
       fluidity_g_ = fluidity_->solution();  // from g = 0: the first fluidity whole
-      x = log_of(fluidity_g_);
     } else {
-      Vector<double> f = log_of(fluidity_->solution());
-      f -= x;
-      // a step that made the residual grow much: the history misleads, start it again
-      if (f.l2_norm() > 2 * last_residual) mixing.restart();
-      last_residual = f.l2_norm();
-      mixing.step(x, f);
-      for (unsigned int i = 0; i < x.size(); ++i) fluidity_g_[i] = std::exp(x[i]);
+      mix_in_log(mixing, fluidity_g_, fluidity_->solution(), fluidity_viscosity_->g_min(),
+                 last_residual);
     }
     flow_model = fluidity_viscosity_.get();
-    const bool converged = nonlocal_flow_step(k, g_loc_points);
+    // Picard steps in the flow's first two steps from the local law's state only
+    const bool with_picard = !carried && k <= 2;
+    bool converged = nonlocal_flow_step(k, with_picard, g_loc_points);
+    if (!converged && (k > 1 || carried)) {
+      mixing.restart();
+      converged = nonlocal_flow_step_halved(k, with_picard, g_loc_points, g_before, flow_before);
+    }
     if (!converged) return;
     ghosted = problem_->ghosted(problem_->solution());
-    // settled: the force and the torque moved by less than the tolerance (of |F| and |T|)
-    // in two iterations running
-    const double dF = std::hypot(out_.fx - last_force[0], out_.fy - last_force[1]);
-    const double F = std::hypot(out_.fx, out_.fy), dT = std::abs(out_.torque - last_force[2]);
-    const double T = std::max(std::abs(out_.torque), F * R_);  // a torque scale: |F| R
-    const bool still = dF <= nl.tolerance * F && dT <= nl.tolerance * T;
-    settled_runs = still ? settled_runs + 1 : 0;
-    last_force = {out_.fx, out_.fy, out_.torque};
-    out_.nonlocal_force_change = std::max(dF / std::max(F, 1e-300), dT / std::max(T, 1e-300));
+    settled_runs = nonlocal_forces_still(last_force) ? settled_runs + 1 : 0;
     if (settled_runs >= 2) {
       out_.nonlocal_settled = true;
-      return;
+      break;
     }
   }
+  // the last flow step's table, projected on g's space, goes with g to the next level
+  projecting = true;
+  fluidity_->assemble_system();
+  fluidity_->solve();
+  fluidity_table_ = fluidity_->solution();
 }
 
-bool CylinderProblem::nonlocal_flow_step(int k, std::vector<double> g_loc) {
+bool CylinderProblem::nonlocal_flow_step_halved(int k, bool with_picard,
+                                                const std::vector<double>& g_loc,
+                                                const Vector<double>& g_before,
+                                                const VectorType& flow_before) {
+  // a flow step that fails (the demo at refinement 3 without nested levels: a stall at
+  // |R|/|R0| ~ 7e-4, with Picard steps too): the fluidity's step halved, from the previous flow
+  for (int half = 0; half < 4; ++half) {
+    say("continuum: the flow step did not converge; again with half the fluidity's step");
+    fluidity_g_ += g_before;
+    fluidity_g_ *= 0.5;
+    problem_->solution() = flow_before;
+    if (nonlocal_flow_step(k, with_picard, g_loc)) return true;
+  }
+  return false;
+}
+
+bool CylinderProblem::nonlocal_forces_still(std::array<double, 3>& last) {
+  // the force and the torque moved by less than the tolerance (of |F| and |T|)
+  const double tolerance = config_.nonlocal.tolerance;
+  const double dF = std::hypot(out_.fx - last[0], out_.fy - last[1]);
+  const double F = std::hypot(out_.fx, out_.fy), dT = std::abs(out_.torque - last[2]);
+  const double T = std::max(std::abs(out_.torque), F * R_);  // a torque scale: |F| R
+  last = {out_.fx, out_.fy, out_.torque};
+  out_.nonlocal_force_change = std::max(dF / std::max(F, 1e-300), dT / std::max(T, 1e-300));
+  return dF <= tolerance * F && dT <= tolerance * T;
+}
+
+std::vector<double> CylinderProblem::carried_table() const {
+  const unsigned int nq = fluidity_->quadrature().size();
+  std::vector<double> table(mesh_->tria().n_active_cells() * nq), values(nq);
+  FEValues<dim> fev(fluidity_->mapping(), fluidity_->dof_handler().get_fe(),
+                    fluidity_->quadrature(), update_values);
+  for (const auto& cell : fluidity_->dof_handler().active_cell_iterators()) {
+    fev.reinit(cell);
+    fev.get_function_values(fluidity_table_, values);
+    std::copy(values.begin(), values.end(), table.begin() + cell->active_cell_index() * nq);
+  }
+  return table;
+}
+
+bool CylinderProblem::nonlocal_flow_step(int k, bool with_picard, std::vector<double> g_loc) {
   // the flow step takes g_loc at its own stress ratio, the excess g - g_loc held
   fluidity_viscosity_->set_local_fluidity(fluidity_->quadrature(), std::move(g_loc));
   problem_->set_viscosity(fluidity_viscosity_.get());
-  // Newton from the first step once the flow is near (Picard steps took a third of the time);
-  // where that fails (the demo at refinement 3, iteration 7: stalled at 3e-4), the step again
-  // from the previous flow with the Picard steps. (Again in the lagged form instead, eta =
-  // p+ / g_k, threw the splitting back: 28 iterations and more, |dg|/|g| up to 4.)
+  // Newton from the first step once the flow is near (Picard steps took a third of the time),
+  // at most kFlowStepIterations steps: a failing step (the demo at refinement 3 without the
+  // nested levels: a stall at |R|/|R0| ~ 7e-4, with Picard steps too) is retried by the
+  // caller with half the fluidity's step. (Again in the lagged form instead, eta = p+ / g_k,
+  // threw the splitting back: 28 iterations and more, |dg|/|g| up to 4.)
   NonlinearSettings step_settings = setup_.nonlinear;
-  if (k > 2) step_settings.picard_iterations = 0;
-  const bool retry = step_settings.picard_iterations == 0;
-  const VectorType previous = retry ? problem_->solution() : VectorType();
+  if (!with_picard) step_settings.picard_iterations = 0;
+  // the first step of a level (from the interpolated flow) may take the whole count
+  if (!with_picard && k > 1) step_settings.max_iterations = kFlowStepIterations;
   problem_->solve_nonlinear(step_settings);
-  if (!problem_->report().converged && retry) {
-    say("continuum: the flow step without Picard steps did not converge; again with them");
-    problem_->solution() = previous;
-    problem_->solve_nonlinear(setup_.nonlinear);
-  }
   out_.residual_stage.resize(problem_->report().residual_history.size(), stage_number_);
   ++stage_number_;
   std::ostringstream os;
