@@ -371,9 +371,11 @@ SolverEntry solver_entry() {
     ContinuumOutput out;
     std::optional<CoarserLevel> coarser;
     try {
-      // (the nonlocal model is solved on the requested mesh alone: its coarser levels are local)
+      // (the nonlocal model: from its nested levels, which it solves each; without them its
+      // coarser level would be a second whole splitting)
       const bool estimate = c.continuum.mesh_error_estimate && cfg.refinement >= 1 &&
-                            cfg.adaptive_cycles == 0 && cfg.model == ContinuumModel::local;
+                            cfg.adaptive_cycles == 0 &&
+                            (cfg.model == ContinuumModel::local || cfg.nested);
       if (estimate && !cfg.nested) {
         // an independent solve of the coarser mesh (the requested level does not start from
         // it, so its result is the same with and without the estimate)

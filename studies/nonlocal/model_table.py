@@ -15,8 +15,9 @@ over 20-60 d, as plot_depth_study.py --window 20 60).
 
 Each cell: the FEM value and, in brackets, z = (FEM - DEM) / combined error. The DEM's error
 is its block error by the one statistics rule (grainlift.io Result.block_errors(), pooled
-errors for the depth sweep); the FEM's the mesh-error estimate of the local solve (/diagnostics
-*_mesh_error, refinement 2 against 1) and, for the nonlocal runs, 0.5% of the value on top: the
+errors for the depth sweep); the FEM's the mesh-error estimate of its solve (/diagnostics
+*_mesh_error, refinement 2 against 1: for the nonlocal runs the nonlocal nested levels, from
+fa4096d + 1) and, for the nonlocal runs, 0.5% of the value on top: the
 splitting's precision (stopping ten times tighter moved the demo's forces by at most 0.2%;
 studies/nonlocal/README.md, "Precision"). A row counts for a
 model when |z| <= 2; the summary gives each model's rows, those within 2 combined errors and
