@@ -27,12 +27,14 @@ struct Variant {
 /// triangular lattice, random velocities in the middle and at rest at both ends (sleepers when
 /// sleeping is on), and a spinning intruder ploughing along x through the middle.
 std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Variant& v,
-                                              double exploit_seconds = 120) {
+                                              double exploit_seconds = 120,
+                                              double stale_ratio = 0) {
   gd::SystemOptions o;
   o.box = {-0.3, 0.3, -0.2, 0.2, true, false};  // x, y bounds (m); periodic in x only
   o.dt = 2e-6;
   o.threads = threads;
   o.tune_exploit_seconds = exploit_seconds;
+  o.tune_stale_ratio = stale_ratio;  // 0: the exploit phase ends on its steps or time only
   auto s = std::make_unique<gd::DemSystem>(o);
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -197,6 +199,28 @@ TEST(Team, TunerTriesAgainAfterItsExploitTime) {
       EXPECT_EQ(s->tuner_trials(), 1) << "one pair of trials, then 7,000 steps of exploit";
     } else {
       EXPECT_GE(s->tuner_trials(), 2) << "the exploit phase must end on time";
+    }
+  }
+}
+
+// Physics: none - the thread tuner must also try again when the exploit phase's time per step
+// leaves its trial's by more than tune_stale_ratio (a run's first trials see a bed at rest; on
+// the reduced Kumar bed widened to 6,883 grains the team then lost its trial and one thread ran
+// to the end, 1.0x, where the team alone gives 1.77x). The ploughed strip on two threads,
+// 20,000 steps in segments of 500: with the rule off one pair of trials (the
+// exploit phase's 100,000 steps outlast the run); with a ratio of 1 + 1e-9 any change of the
+// time per step ends the exploit phase after its first kTrialSteps, and the trials repeat.
+// Tolerance: exact counts on the off side, at least two on the other.
+TEST(Team, TunerTriesAgainWhenTheWorkPerStepChanges) {
+  for (const double ratio : {0.0, 1 + 1e-9}) {
+    auto s = ploughed_strip(2, false, {}, 120, ratio);
+    ASSERT_EQ(s->threads_allowed(), 2);
+    // in segments of 500 steps, as a run's samples cut them (the rule is checked at their ends)
+    for (int k = 0; k < 40; ++k) s->advance(500);
+    if (ratio > 0) {
+      EXPECT_GE(s->tuner_trials(), 2) << "a stale verdict must be tried again";
+    } else {
+      EXPECT_EQ(s->tuner_trials(), 1) << "one pair of trials, then 7,000 steps of exploit";
     }
   }
 }

@@ -40,6 +40,10 @@ struct SystemOptions {
   /// (DemSystem::kExploitSteps << backoff) are not done: on a bed of 60,000 grains 1.6 M steps
   /// on one thread are more than an hour after the load that made the team lose has gone.
   double tune_exploit_seconds = 120;
+  /// the exploit phase also ends when its time per step leaves the trial's (of the side
+  /// chosen) by more than this factor either way: the trials' verdict is stale (0: never).
+  /// A run's first trials see a bed at rest, largely asleep; its front builds later.
+  double tune_stale_ratio = 1.5;
   std::array<double, 2> gravity{0, 0};  ///< m/s^2, on grains only
 };
 
@@ -333,6 +337,8 @@ class DemSystem {
   /// environment variable GRAINLIFT_TEAM=fixed keeps the whole team (benchmarks of the threaded
   /// step itself).
   void choose_team();
+  /// Whether the exploit phase's time per step has left its trial's (opt_.tune_stale_ratio).
+  bool exploit_is_stale() const;
   /// Adds a segment's steps and wall time to the current trial.
   void account_segment(long long steps, double seconds);
   /// Each trial runs kWarmSteps untimed (the other core's caches are cold and its thread asleep
@@ -348,6 +354,7 @@ class DemSystem {
   /// (where a team step can take ten times a one-thread step) the trials become rare.
   int tune_backoff_ = 0;
   double tune_exploit_elapsed_ = 0;  ///< s of the current exploit phase (opt_.tune_exploit_seconds)
+  long long tune_exploit_steps_ = 0;  ///< its steps (opt_.tune_stale_ratio)
   std::int64_t tune_trials_ = 0;     ///< tuner_trials()
   static constexpr int kMaxBackoff = 4;
   /// seconds and steps of the team trial so far, warm-up included (account_segment's early end)
