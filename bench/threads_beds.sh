@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Two threads against one on the demo and on beds of 2,000-10,000 grains (issue 36: >= 1.5x,
+# never slower), the DEM's whole run, the runs alternated: the demo (873 grains, 60 d), the
+# reduced Kumar bed (cases/kumar2019/reduced_phi080.toml, 2,295 grains, 30 d) and the same
+# widened to 2 m x 1.4 m (6,883 grains, 10 d). Fields off; the bed is packed (and cached)
+# before the timed runs. Prints each run's wall time, the team's share of the steps, and per
+# bed the ratio of the medians.
+#
+#   bench/threads_beds.sh [build dir (build)] [rounds (3)]
+#
+# About 1.5 min per round on the 2-core reference machine; runs in a temporary folder.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+G=$(realpath "${1:-build}/bin/grainlift")
+ROUNDS=${2:-3}
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+WIDE=(--set 'domain.x_range=[-1.0,1.0]' --set 'domain.y_range=[-0.7,0.7]')
+declare -A CASE=([demo]=cases/demo/demo.toml [kumar2295]=cases/kumar2019/reduced_phi080.toml
+  [kumar6883]=cases/kumar2019/reduced_phi080.toml)
+args() {  # args BED: the bed's settings
+  case $1 in
+    demo) echo "--set output.fields=false" ;;
+    kumar2295) echo "--set output.fields=false --set dem.travel=30 --set dem.steady_travel=5" ;;
+    kumar6883) echo "--set output.fields=false --set dem.travel=10 --set dem.steady_travel=5" ;;
+  esac
+}
+run() {  # run BED THREADS
+  local bed=$1 t=$2 extra=()
+  [[ $bed == kumar6883 ]] && extra=("${WIDE[@]}")
+  # shellcheck disable=SC2046
+  /usr/bin/time -f "%e" -o "$OUT/t" "$G" run "${CASE[$bed]}" --solver dem --threads "$t" --quiet \
+    $(args "$bed") "${extra[@]}" --out "$OUT/$bed$t" >/dev/null 2>&1 || { echo "$bed failed"; exit 1; }
+  cat "$OUT/t" >>"$OUT/$bed$t.times"
+  local team
+  team=$(/usr/bin/python3 - "$OUT/$bed$t/dem.h5" <<'PY'
+import sys
+import h5py
+d = h5py.File(sys.argv[1], "r")["diagnostics"].attrs
+print(f"{100 * d['steps_on_team'] / max(1, d['steps']):.0f}%")
+PY
+)
+  echo "$bed threads $t: $(cat "$OUT/t") s (team on $team of the steps)"
+}
+"$G" --version | head -1
+for bed in demo kumar2295 kumar6883; do  # pack (and cache) each bed first
+  run "$bed" 1 >/dev/null
+  rm -f "$OUT/${bed}1.times"
+done
+for ((k = 1; k <= ROUNDS; ++k)); do
+  for bed in demo kumar2295 kumar6883; do
+    run "$bed" 1
+    run "$bed" 2
+  done
+done
+median() { sort -n "$OUT/$1.times" | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+echo
+echo "| bed | one thread (s) | two threads (s) | ratio |"
+echo "|---|---|---|---|"
+for bed in demo kumar2295 kumar6883; do
+  a=$(median "${bed}1")
+  b=$(median "${bed}2")
+  echo "| $bed | $a | $b | $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.2f", a / b }') |"
+done
