@@ -30,7 +30,8 @@ run() {  # run BED THREADS
   [[ $bed == kumar6883 ]] && extra=("${WIDE[@]}")
   # shellcheck disable=SC2046
   /usr/bin/time -f "%e" -o "$OUT/t" "$G" run "${CASE[$bed]}" --solver dem --threads "$t" --quiet \
-    $(args "$bed") "${extra[@]}" --out "$OUT/$bed$t" >/dev/null 2>&1 || { echo "$bed failed"; exit 1; }
+    $(args "$bed") "${extra[@]}" --out "$OUT/$bed$t" >/dev/null 2>&1 ||
+    { echo "$bed failed"; exit 1; }
   cat "$OUT/t" >>"$OUT/$bed$t.times"
   local team
   team=$(/usr/bin/python3 - "$OUT/$bed$t/dem.h5" <<'PY'
