@@ -299,8 +299,8 @@ class FlowProblem {
   VectorType solution_;
   // ---- direct solver: MUMPS on the whole matrix (the blocks copied into it)
   dealii::TrilinosWrappers::SparseMatrix direct_matrix_;
-  bool direct_memory_checked_ = false;  ///< memory checked for this mesh's direct solve
-  /// MUMPS with its analysis of this mesh's matrix, kept between solves (direct_solver.cc)
+  /// MUMPS with its analysis of this mesh's matrix, kept between solves (direct_solver.cc);
+  /// none until the mesh's first direct solve, which checks the memory
   struct DirectFactorization;
   struct DirectFactorizationDeleter {
     void operator()(DirectFactorization* d) const;
@@ -308,6 +308,11 @@ class FlowProblem {
   std::unique_ptr<DirectFactorization, DirectFactorizationDeleter> direct_;
   /// DirectFactorization::destination for this mesh's blocks (direct_solver.cc)
   void map_blocks_into_direct_matrix();
+  /// MUMPS's analysis of @p d's matrix; the memory checked after the mesh's first.
+  void analyse(DirectFactorization& d);
+  /// Factorisation and solve on @p d's analysis: |A x - b| / |b|, or infinity where the
+  /// factorisation on a @p kept analysis failed (the caller analyses again).
+  double factorise_and_solve(DirectFactorization& d, bool kept);
   // ---- block preconditioner (LinearSolver::amg)
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;

@@ -35,20 +35,29 @@ double owned_sum(const VectorType& v, const VectorType& w, F f, MPI_Comm comm) {
   return dealii::Utilities::MPI::sum(sum, comm);
 }
 
-/// Calls f(row, column, value) for the stored entries of the locally owned rows of @p m
-/// (Epetra's row views: deal.II's iterators over a Trilinos matrix cost O(columns) per row).
+/// Calls f(local row, its length, values, local columns) for the locally owned rows of @p e
+/// (Epetra's row views; the values may be written).
 template <typename F>
-void for_each_entry(const dealii::TrilinosWrappers::SparseMatrix& m, F f) {
-  const Epetra_CrsMatrix& e = m.trilinos_matrix();
+void for_each_row(const Epetra_CrsMatrix& e, F f) {
   for (int r = 0; r < e.NumMyRows(); ++r) {
     int n = 0;
     double* values = nullptr;
     int* columns = nullptr;
     e.ExtractMyRowView(r, n, values, columns);
+    f(r, n, values, columns);
+  }
+}
+
+/// Calls f(row, column, value) for the stored entries of the locally owned rows of @p m
+/// (Epetra's row views: deal.II's iterators over a Trilinos matrix cost O(columns) per row).
+template <typename F>
+void for_each_entry(const dealii::TrilinosWrappers::SparseMatrix& m, F f) {
+  const Epetra_CrsMatrix& e = m.trilinos_matrix();
+  for_each_row(e, [&](int r, int n, const double* values, const int* columns) {
     const dealii::types::global_dof_index i = dealii::TrilinosWrappers::global_row_index(e, r);
     for (int k = 0; k < n; ++k)
       f(i, dealii::TrilinosWrappers::global_index(e.ColMap(), columns[k]), values[k]);
-  }
+  });
 }
 
 /// @p m with a diagonal entry @p value added in the locally owned rows that have none (a

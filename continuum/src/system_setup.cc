@@ -185,7 +185,6 @@ void FlowProblem::setup_system() {
     full.compress();
     direct_.reset();  // MUMPS holds the old matrix: a new pattern is analysed again
     direct_matrix_.reinit(full);
-    direct_memory_checked_ = false;
   } else {
     if (setup_.schur_approximation == SchurApproximation::viscosity_mass) schur_mass_.reinit(sp);
     DoFTools::extract_constant_modes(dof_handler_, fe_.component_mask(kVelocity),
