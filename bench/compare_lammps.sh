@@ -41,9 +41,7 @@ fi
 declare -A BM=([dense]=BM_DenseBed [dilute]=BM_DiluteBed [jammed]=BM_JammedBed)
 declare -A PHI=([dense]=0.82 [dilute]=0.35 [jammed]=0.86)
 
-median() {
-  sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'
-}
+. "$(dirname "$0")/lib.sh"  # median
 
 echo "# $(date -u +%FT%TZ)  $(nproc) cores " "load: $(cut -d' ' -f1-3 /proc/loadavg) " \
   "build: $BUILD " "grainlift timed steps: ${GRAINLIFT_BENCH_STEPS:->= 3 s}"

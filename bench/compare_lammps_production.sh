@@ -44,9 +44,7 @@ getvar() { awk -v n="$1" '$1 == "-var" && $2 == n {print $3}' <<<"$export_out"; 
 steps=$(getvar steps)
 bed_note=$(grep -o 'grains [0-9]* (walls [0-9]*), area fraction [0-9.]*' <<<"$export_out")
 
-median() {
-  sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'
-}
+. "$(dirname "$0")/lib.sh"  # median
 now() { date +%s.%N; }
 # the solver's own wall time from a summary.json
 wall_py='import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])'

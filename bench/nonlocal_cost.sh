@@ -9,6 +9,7 @@
 #
 # About 2 min per repetition on the 2-core reference machine; runs in a temporary folder.
 set -euo pipefail
+. "$(dirname "$0")/lib.sh"  # median
 cd "$(dirname "$0")/.."
 G=$(realpath "${1:-build}/bin/grainlift")
 REPS=${2:-3}
@@ -37,7 +38,6 @@ for ((rep = 1; rep <= REPS; ++rep)); do
   run nonlocal_r2 "${NGF[@]}" "${R2[@]}"
   run nonlocal_A0.5_r2 "${NGF[@]}" "${R2[@]}" "${A05[@]}"
 done
-median() { sort -n "$OUT/$1.times" | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
 echo
 echo "| setting | local (s) | nonlocal (s) | ratio |"
 echo "|---|---|---|---|"
@@ -45,7 +45,7 @@ for pair in "default:local_default:nonlocal_default" \
   "default, A 0.5:local_default:nonlocal_A0.5_default" "refinement 3:local_r3:nonlocal_r3" \
   "refinement 2:local_r2:nonlocal_r2" "refinement 2, A 0.5:local_r2:nonlocal_A0.5_r2"; do
   IFS=: read -r label l n <<<"$pair"
-  a=$(median "$l")
-  b=$(median "$n")
+  a=$(median <"$OUT/$l.times")
+  b=$(median <"$OUT/$n.times")
   echo "| $label | $a | $b | $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.2f", b / a }') |"
 done

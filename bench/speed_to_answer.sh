@@ -50,9 +50,7 @@ wall() {
   "$PY" -c 'import json, sys; print(json.load(open(sys.argv[1]))["dem"]["wall_seconds"])' \
     "$1/summary.json"
 }
-median() {
-  sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : 0.5*(a[NR/2]+a[NR/2+1])}'
-}
+. "$(dirname "$0")/lib.sh"  # median
 # run_once NAME ARGS...: the reduced run with ARGS once (output in $WORK/NAME); its solver wall
 # time (summary.json) is appended to $WORK/NAME.walls. Another case: TCASE (file) and the array
 # TSET (its --set options) in place of KUMAR and KSET.

@@ -10,6 +10,7 @@
 #
 # About 1.5 min per round on the 2-core reference machine; runs in a temporary folder.
 set -euo pipefail
+. "$(dirname "$0")/lib.sh"  # median
 cd "$(dirname "$0")/.."
 G=$(realpath "${1:-build}/bin/grainlift")
 ROUNDS=${2:-3}
@@ -54,12 +55,11 @@ for ((k = 1; k <= ROUNDS; ++k)); do
     run "$bed" 2
   done
 done
-median() { sort -n "$OUT/$1.times" | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
 echo
 echo "| bed | one thread (s) | two threads (s) | ratio |"
 echo "|---|---|---|---|"
 for bed in demo kumar2295 kumar6883; do
-  a=$(median "${bed}1")
-  b=$(median "${bed}2")
+  a=$(median <"$OUT/${bed}1.times")
+  b=$(median <"$OUT/${bed}2.times")
   echo "| $bed | $a | $b | $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.2f", a / b }') |"
 done
