@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -50,8 +51,28 @@ T choice(const std::string& name, std::initializer_list<std::pair<const char*, T
   throw std::logic_error("continuum: choice \"" + name +
                          "\" passed the loader but has no engine value");
 }
-}  // namespace
 
+/// continuum.dilatancy = "phi_i": the calibrated Phi(I) (rheology file or cache), floored at
+/// its value at the top of the calibrated range; "auto": the same where the law is calibrated,
+/// the model local and gravity full (the combinations "phi_i" is refused with), else none.
+void set_dilatancy(const Case& c, ContinuumConfig& f) {
+  const ContinuumSection& cn = c.continuum;
+  if (cn.dilatancy == "none") return;
+  if (cn.dilatancy == "auto" &&
+      (!(cn.phi_max > 0) || f.model != ContinuumModel::local || f.linearised_gravity))
+    return;
+  if (!(cn.phi_max > 0))
+    throw InputError(fmt::format(
+        "{}: continuum.dilatancy = \"phi_i\" needs a calibrated Phi(I), and no rheology file "
+        "was read (continuum.rheology_file, or `grainlift calibrate {}` for the cache); set "
+        "continuum.dilatancy = \"none\" to run incompressible",
+        c.source.path, c.source.path));
+  f.dilatancy.enabled = true;
+  f.dilatancy.phi_max = cn.phi_max;
+  f.dilatancy.a = cn.phi_a;
+  f.dilatancy.phi_min = std::max(cn.phi_max - cn.phi_a * cn.phi_I_max, 1e-3);
+}
+}  // namespace
 
 ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir) {
   ContinuumConfig f;
@@ -110,6 +131,7 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
   f.nonlocal.max_iterations = c.continuum.nonlocal_iterations;
   f.nonlocal.relaxation = c.continuum.nonlocal_relaxation;
   f.nonlocal.tolerance = c.continuum.nonlocal_tolerance;
+  set_dilatancy(c, f);  // after the model and the gravity treatment
   // Surface angles: the shared grid (the pointwise trace), then the oversampled grid the
   // smoothed trace is computed from (surface_trace_angles), measured from V as the engine
   // takes them (it turns them into lab angles itself).
@@ -268,6 +290,12 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
     d.values["nonlocal_change"] = out.nonlocal_change;
     d.values["nonlocal_force_change"] = out.nonlocal_force_change;
   }
+  if (cfg.dilatancy.enabled)  // absent otherwise
+    d.texts["dilatancy"] = fmt::format(
+        "phi_i (continuum.dilatancy = \"{}\"): Phi(I) = {:.4f} - {:.4f} I of {}, floored at "
+        "{:.4f}; div(Phi u) = 0, weight rho Phi / phi_max g",
+        c.continuum.dilatancy, cfg.dilatancy.phi_max, cfg.dilatancy.a, c.continuum.rheology_file,
+        cfg.dilatancy.phi_min);
   if (cfg.target_error > 0) {  // absent otherwise
     d.values["target_error"] = cfg.target_error;
     d.values["estimated_error"] = out.estimated_error;

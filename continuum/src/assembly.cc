@@ -5,6 +5,9 @@
 //         + int_{Gamma_wall} mu_w p+ g(s) (t_w.v),        g(s) = s / sqrt(s^2 + eps^2)
 //   with mu_w constant or the grains' slip law mu_a + (mu_b - mu_a) |s| / (|s| + v0)
 //   R_q = - int q div u
+//   dilatant (ProblemSetup::dilatancy): R_q = - int q div((1 - delta) u), written
+//         - int q div u - int delta u.grad q + int_{dOmega} q delta u.n (delta need not be
+//         continuous), and f -> (1 - delta) f
 // Newton's Jacobian differentiates eta(|D|^2, p) in both arguments (see assemble_cell_volume).
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -29,15 +32,21 @@ struct FlowProblem::AssemblyScratch {
         ffv(mapping, fe, fquad,
             update_values | update_quadrature_points | update_normal_vectors |
                 update_JxW_values),
+        dfv(mapping, fe, fquad,
+            update_values | update_gradients | update_normal_vectors | update_JxW_values),
         dpc(fe.n_dofs_per_cell()), nq(quad.size()), nfq(fquad.size()),
         cmass(schur ? dpc : 0, schur ? dpc : 0), cm(dpc, dpc), cr(dpc), idx(dpc), qr(nq),
-        grad(nq), uval(nq), fu(nfq), fp(nfq), phi_sym(dpc), phi_grad(dpc), phi_u(dpc),
-        phi_div(dpc), phi_p(dpc) {}
+        grad(nq), uval(nq), fu(nfq), fp(nfq), fsym(nfq), phi_sym(dpc), phi_grad(dpc),
+        phi_u(dpc), phi_div(dpc), phi_p(dpc), phi_gp(dpc) {
+    face_in.resize(nfq);
+    face_out.resize(nfq);
+  }
 
   const QGauss<dim> quad;
   const QGauss<dim - 1> fquad;
   FEValues<dim> fev;
   FEFaceValues<dim> ffv;
+  FEFaceValues<dim> dfv;  ///< with gradients: the dilatant flux's I on a face
   const unsigned int dpc, nq, nfq;
   FullMatrix<double> cmass;  ///< (1/eta)-weighted pressure mass matrix (schur_mass only)
   FullMatrix<double> cm;
@@ -47,10 +56,14 @@ struct FlowProblem::AssemblyScratch {
   std::vector<Tensor<2, dim>> grad;  ///< grad u (inertia only)
   std::vector<Vec2> uval, fu;        ///< u in the cell (inertia only), u on a face
   std::vector<double> fp;            ///< p on a face
+  std::vector<SymmetricTensor<2, dim>> fsym;  ///< D(u) on a face (dilatancy only)
+  RheologyInputs face_in;                     ///< the rheology on a face (dilatancy only)
+  RheologyOutputs face_out;
   std::vector<SymmetricTensor<2, dim>> phi_sym;
   std::vector<Tensor<2, dim>> phi_grad;
   std::vector<Vec2> phi_u;
   std::vector<double> phi_div, phi_p;
+  std::vector<Vec2> phi_gp;  ///< grad q (dilatancy only)
 };
 
 double FlowProblem::assemble_system(const VectorType& state, bool matrix, bool newton,
@@ -103,18 +116,24 @@ void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& sta
   std::vector<double>& phi_p = s.phi_p;
   const double rho = setup_.inertia_density;
   const bool inertia = rho > 0;
+  const DilatancyLaw* dil = setup_.dilatancy ? &*setup_.dilatancy : nullptr;
   s.qr.evaluate(fev, state, *setup_.viscosity);
-  if (inertia) {
-    fev[kVelocity].get_function_gradients(state, s.grad);
-    fev[kVelocity].get_function_values(state, s.uval);
-  }
+  if (inertia) fev[kVelocity].get_function_gradients(state, s.grad);
+  if (inertia || dil) fev[kVelocity].get_function_values(state, s.uval);
 
   for (unsigned int q = 0; q < nq; ++q) {
     const double JxW = fev.JxW(q);
     const double eta = out.viscosity[q];
     const double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
     const double eta_p = newton ? out.deta_dpressure[q] : 0.0;
-    const Vec2 f = setup_.body_force ? setup_.body_force(fev.quadrature_point(q)) : Vec2();
+    Vec2 f = setup_.body_force ? setup_.body_force(fev.quadrature_point(q)) : Vec2();
+    const Vec2 f_dense = f;
+    const double delta = dil ? dil->deficit(out.inertial_number[q]) : 0.0;
+    // Newton: d delta = ddelta_dI (dI/d|D|^2 D:D_j + dI/dp p_j)
+    const double ddelta_dI = dil && newton ? dil->slope(out.inertial_number[q]) : 0.0;
+    if (dil) f *= 1 - delta;  // the dilated medium's weight
+    const double source =
+        setup_.continuity_source ? setup_.continuity_source(fev.quadrature_point(q)) : 0.0;
     const SymmetricTensor<2, dim>& D = sym[q];
     const double div_u = trace(D);
     const Vec2 conv = inertia ? Vec2(grad[q] * uval[q]) : Vec2();
@@ -124,11 +143,14 @@ void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& sta
       phi_u[k] = fev[kVelocity].value(k, q);
       phi_p[k] = fev[kPressure].value(k, q);
       if (inertia && matrix) phi_grad[k] = fev[kVelocity].gradient(k, q);
+      if (dil) s.phi_gp[k] = fev[kPressure].gradient(k, q);
     }
     for (unsigned int i = 0; i < dpc; ++i) {
       const double D_Di = D * phi_sym[i];
       s.cr(i) += (2 * eta * D_Di - pval[q] * phi_div[i] - phi_p[i] * div_u +
                   rho * (conv * phi_u[i]) - f * phi_u[i]) * JxW;
+      if (dil) s.cr(i) -= delta * (uval[q] * s.phi_gp[i]) * JxW;  // - int delta u.grad q
+      if (setup_.continuity_source) s.cr(i) += phi_p[i] * source * JxW;
       if (!matrix) continue;
       for (unsigned int j = 0; j < dpc; ++j) {
         // d/dx_j of 2 eta D:D_i = 2 eta D_j:D_i + 2 (eta_s D:D_j + eta_p phi_p_j) D:D_i
@@ -139,6 +161,11 @@ void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& sta
           a += rho * ((phi_grad[j] * uval[q]) * phi_u[i]);               // Oseen part
           if (newton) a += rho * ((grad[q] * phi_u[j]) * phi_u[i]);      // Newton part
         }
+        if (dil) a -= delta * (phi_u[j] * s.phi_gp[i]);
+        if (ddelta_dI != 0)  // -(1 - delta) f.v_i - delta u.grad q_i through delta
+          a += ddelta_dI *
+               (out.dI_dstrain_sq[q] * (D * phi_sym[j]) + out.dI_dpressure[q] * phi_p[j]) *
+               (f_dense * phi_u[i] - uval[q] * s.phi_gp[i]);
         s.cm(i, j) += a * JxW;
       }
       if (schur)  // (1/eta) p_i p_j: the Schur complement B A^{-1} B^T is ~ M_p / eta
@@ -157,6 +184,7 @@ void FlowProblem::assemble_cell_boundary(AssemblyScratch& s,
   for (const auto& face : cell->face_iterators()) {
     if (!face->at_boundary()) continue;
     const auto id = face->boundary_id();
+    if (setup_.dilatancy) add_dilatancy_flux(s, cell, face, state, matrix, newton);
     const auto tr = setup_.bc.traction.find(id);
     const bool is_friction = setup_.bc.friction && setup_.bc.friction->id == id;
     if (tr == setup_.bc.traction.end() && !is_friction) continue;
@@ -213,6 +241,52 @@ void FlowProblem::add_friction_terms(AssemblyScratch& sc, const VectorType& stat
         else
           a = (law ? mu * pp : pp) / r * tj;  // Picard: secant slip coefficient
         sc.cm(i, j) += outer * a * ti * ffv.JxW(q);
+      }
+    }
+  }
+}
+
+/// The boundary part of the dilatant continuity, int q delta u.n, on the boundary @p face of
+/// @p cell (none on periodic ends: there the two sides' terms are one interior face's, which
+/// the volume form already holds). delta from the law's I on the face, as in the volume.
+void FlowProblem::add_dilatancy_flux(AssemblyScratch& s,
+                                     const DoFHandler<dim>::active_cell_iterator& cell,
+                                     const DoFHandler<dim>::face_iterator& face,
+                                     const VectorType& state, bool matrix, bool newton) const {
+  for (const auto& [b1, b2] : setup_.bc.periodic_x)
+    if (face->boundary_id() == b1 || face->boundary_id() == b2) return;
+  FEFaceValues<dim>& dfv = s.dfv;
+  dfv.reinit(cell, face);
+  dfv[kVelocity].get_function_values(state, s.fu);
+  dfv[kVelocity].get_function_symmetric_gradients(state, s.fsym);
+  dfv[kPressure].get_function_values(state, s.fp);
+  for (unsigned int q = 0; q < s.nfq; ++q) {
+    s.face_in.strain_rate_sq[q] = 0.5 * (s.fsym[q] * s.fsym[q]);  // |D|^2 = D:D/2
+    s.face_in.pressure[q] = s.fp[q];
+  }
+  setup_.viscosity->evaluate(s.face_in, s.face_out);
+  const DilatancyLaw& law = *setup_.dilatancy;
+  for (unsigned int q = 0; q < s.nfq; ++q) {
+    const double I = s.face_out.inertial_number[q];
+    const double delta = law.deficit(I), JxW = dfv.JxW(q);
+    const double ddelta_dI = newton ? law.slope(I) : 0.0;
+    if (delta == 0 && ddelta_dI == 0) continue;
+    const Vec2 n = dfv.normal_vector(q);
+    const double un = s.fu[q] * n;
+    for (unsigned int i = 0; i < s.dpc; ++i) {
+      const double qi = dfv[kPressure].value(i, q);
+      if (qi == 0) continue;
+      s.cr(i) += delta * un * qi * JxW;
+      if (!matrix) continue;
+      for (unsigned int j = 0; j < s.dpc; ++j) {
+        double a = delta * (dfv[kVelocity].value(j, q) * n);
+        if (ddelta_dI != 0) {  // through delta
+          const double D_Dj = s.fsym[q] * dfv[kVelocity].symmetric_gradient(j, q);
+          a += ddelta_dI * un *
+               (s.face_out.dI_dstrain_sq[q] * D_Dj +
+                s.face_out.dI_dpressure[q] * dfv[kPressure].value(j, q));
+        }
+        s.cm(i, j) += a * qi * JxW;
       }
     }
   }

@@ -19,6 +19,36 @@ void require(bool ok, const std::string& what) {
 
 bool finite(double x) { return std::isfinite(x); }
 
+/// The nonlocal fluidity's and the dilatancy's settings.
+void validate_models(const ContinuumConfig& c) {
+  if (c.model == ContinuumModel::nonlocal_fluidity) {
+    const NonlocalParams& n = c.nonlocal;
+    require(finite(n.amplitude) && n.amplitude > 0, "nonlocal amplitude A must be > 0");
+    require(finite(n.xi_max) && n.xi_max >= 0, "nonlocal xi_max must be >= 0 (0: the intruder "
+                                                 "diameter)");
+    require(n.max_iterations >= 1, "nonlocal max_iterations must be >= 1");
+    require(n.tolerance > 0 && n.tolerance < 1, "nonlocal tolerance must be in (0, 1)");
+    require(n.relaxation > 0 && n.relaxation <= 1, "nonlocal relaxation must be in (0, 1]");
+    require(!c.linearised_gravity, "the nonlocal fluidity model solves gravity in full: "
+                                   "continuum.gravity_treatment = \"full\"");
+    require(MpiSession::size() == 1, "the nonlocal fluidity model runs on one MPI rank (its "
+                                     "fluidity solve is serial): run without mpirun");
+  }
+  if (c.dilatancy.enabled) {
+    const DilatancyParams& d = c.dilatancy;
+    require(finite(d.phi_max) && d.phi_max > 0 && d.phi_max <= 1,
+            "dilatancy phi_max must be in (0, 1]");
+    require(finite(d.a) && d.a >= 0, "dilatancy a (Phi(I) = phi_max - a I) must be >= 0");
+    require(finite(d.phi_min) && d.phi_min > 0 && d.phi_min <= d.phi_max,
+            "dilatancy phi_min must be in (0, phi_max]");
+    require(c.model == ContinuumModel::local,
+            "continuum.dilatancy = \"phi_i\" is built for the local mu(I) law: set "
+            "continuum.model = \"local\"");
+    require(!c.linearised_gravity, "continuum.dilatancy weighs the dilated medium: "
+                                   "continuum.gravity_treatment = \"full\"");
+  }
+}
+
 }  // namespace
 
 void validate_config(const ContinuumConfig& c) {
@@ -96,19 +126,7 @@ void validate_config(const ContinuumConfig& c) {
     require(c.nested && c.adaptive_cycles == 0,
             "target_error stops the nested levels: it needs continuum.nested = true and no "
             "adaptive cycles");
-  if (c.model == ContinuumModel::nonlocal_fluidity) {
-    const NonlocalParams& n = c.nonlocal;
-    require(finite(n.amplitude) && n.amplitude > 0, "nonlocal amplitude A must be > 0");
-    require(finite(n.xi_max) && n.xi_max >= 0, "nonlocal xi_max must be >= 0 (0: the intruder "
-                                                 "diameter)");
-    require(n.max_iterations >= 1, "nonlocal max_iterations must be >= 1");
-    require(n.tolerance > 0 && n.tolerance < 1, "nonlocal tolerance must be in (0, 1)");
-    require(n.relaxation > 0 && n.relaxation <= 1, "nonlocal relaxation must be in (0, 1]");
-    require(!c.linearised_gravity, "the nonlocal fluidity model solves gravity in full: "
-                                   "continuum.gravity_treatment = \"full\"");
-    require(MpiSession::size() == 1, "the nonlocal fluidity model runs on one MPI rank (its "
-                                     "fluidity solve is serial): run without mpirun");
-  }
+  validate_models(c);
   if (c.fields.enabled)
     require(c.fields.spacing > 0 && c.fields.nx > 0 && c.fields.ny > 0,
             "fields need spacing > 0, nx > 0 and ny > 0");

@@ -20,6 +20,10 @@ ProblemSetup CylinderProblem::make_setup(const Vec2& g_used) const {
   setup.linear_solver = c.linear_solver;
   setup.schur_approximation = c.schur_approximation;
   if (g_used.norm() > 0) setup.body_force = [=](const Point2&) { return Vec2(rho * g_used); };
+  if (c.dilatancy.enabled) {
+    const DilatancyParams& d = c.dilatancy;
+    setup.dilatancy = DilatancyLaw{d.a / d.phi_max, (d.phi_max - d.phi_min) / d.phi_max};
+  }
   // far field: Dirichlet u = -V where the flow enters or slides along the box (and on the
   // walls, at rest in the lab frame), the lithostatic traction -p_lith n where it leaves (or
   // at both x ends if V = 0)

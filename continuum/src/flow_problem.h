@@ -26,6 +26,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <memory>
@@ -80,6 +81,30 @@ struct BoundarySpec {
   bool pin_pressure = false;  ///< fix one pressure dof (all-Dirichlet problems) to initial_pressure
 };
 
+/// A dilatant medium's relative density deficit delta(I) = (phi_max - Phi(I)) / phi_max =
+/// min(a I, phi_max - phi_min) / phi_max: the continuity equation is div((1 - delta) u) = 0
+/// and the body force (1 - delta) f, delta at the I of the state being assembled (Newton's
+/// matrix differentiates it through I(|D|^2, p); Picard's holds it fixed). The min is rounded
+/// over x = a I / phi_max within w = max_deficit / 10 of the floor, x - (x - m + w)^2 / (4 w),
+/// so that delta is C1 (Newton cycled on the kink where the wake's I crosses the floor).
+struct DilatancyLaw {
+  double a_rel = 0;        ///< a / phi_max
+  double max_deficit = 0;  ///< (phi_max - phi_min) / phi_max
+  double deficit(double inertial_number) const {
+    const double x = a_rel * inertial_number, m = max_deficit, w = 0.1 * m;
+    if (x <= m - w) return x;
+    if (x >= m + w) return m;
+    return x - (x - m + w) * (x - m + w) / (4 * w);
+  }
+  /// d delta / dI
+  double slope(double inertial_number) const {
+    const double x = a_rel * inertial_number, m = max_deficit, w = 0.1 * m;
+    if (x <= m - w) return a_rel;
+    if (x >= m + w) return 0.0;
+    return a_rel * (1 - (x - m + w) / (2 * w));
+  }
+};
+
 struct NonlinearSettings {
   double relative_tolerance = 1e-8;  ///< ||R_k|| <= tol ||R_0||
   double absolute_tolerance = 1e-300;
@@ -89,6 +114,9 @@ struct NonlinearSettings {
 
 struct ProblemSetup {
   VectorField body_force;                 ///< N/m^3 (e.g. rho g); empty = none
+  std::optional<DilatancyLaw> dilatancy;  ///< empty: incompressible
+  /// s in div((1 - delta) u) = s (manufactured solutions); empty = 0
+  ScalarField continuity_source;
   BoundarySpec bc;
   const ViscosityModel* viscosity = nullptr;
   double inertia_density = 0;             ///< kg/m^3; 0 = Stokes (no rho (u.grad)u)
@@ -233,6 +261,11 @@ class FlowProblem {
   /// The wall-friction terms of the face of @p s (FrictionWall), into its local ones.
   void add_friction_terms(AssemblyScratch& s, const VectorType& state, bool matrix,
                           bool newton) const;
+  /// The dilatant continuity's boundary flux on @p face of @p cell (DilatancyLaw), into @p s.
+  void add_dilatancy_flux(AssemblyScratch& s,
+                          const dealii::DoFHandler<dim>::active_cell_iterator& cell,
+                          const dealii::DoFHandler<dim>::face_iterator& face,
+                          const VectorType& state, bool matrix, bool newton) const;
   /// The local residual and matrices of @p s into the global ones (local-to-global).
   void distribute_cell(const AssemblyScratch& s, MatrixType* matrix, VectorType& residual,
                        bool reaction_mode, MatrixType* schur_mass) const;

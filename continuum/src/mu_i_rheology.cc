@@ -153,9 +153,10 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
                             : std::numeric_limits<double>::infinity();
     const double mu = friction(I), dmu = dfriction_dI(I);
     double eta = mu * pe / (2 * gd);
-    double deta_ds = 0, deta_dp = 0;
+    double deta_ds = 0, deta_dp = 0, dI_ds = 0, dI_dp = 0;
     if (pe > 0) {
-      const double dI_ds = d * std::sqrt(rho_s / pe) / gd;  // = I / (2 gd^2)
+      dI_ds = d * std::sqrt(rho_s / pe) / gd;  // = I / (2 gd^2)
+      dI_dp = -0.5 * I / pe * dpe_dp;
       deta_ds = pe / (2 * gd) * dmu * dI_ds - mu * pe / (4 * gd * gd * gd);
       deta_dp = (mu - 0.5 * I * dmu) / (2 * gd) * dpe_dp;
     }
@@ -165,6 +166,8 @@ void MuIRheology::evaluate(const RheologyInputs& in, RheologyOutputs& out) const
     out.deta_dpressure[q] = deta_dp;
     out.friction[q] = mu;
     out.inertial_number[q] = std::isfinite(I) ? I : std::numeric_limits<double>::max();
+    out.dI_dstrain_sq[q] = s + delta2 > kStrainFloor * kStrainFloor ? dI_ds : 0.0;
+    out.dI_dpressure[q] = dI_dp;
   }
 }
 

@@ -109,9 +109,15 @@ FlowProblem::NonlinearStep FlowProblem::nonlinear_step(NonlinearWork& w, bool ne
   return step;
 }
 
-/// The inverse diagonal 1/|J_ii| of system_matrix_'s diagonal blocks (1 where it is 0).
+/// The inverse diagonal 1/|J_ii| of system_matrix_'s diagonal blocks (1 where it is 0). The
+/// pressure block's diagonal is 0 but for the dilatant medium's d delta / dp, which can be
+/// nearly 0 where p is large: its weights are 1 there as elsewhere.
 void FlowProblem::jacobi_weights(VectorType& weight) const {
   for (unsigned int b = 0; b < 2; ++b) {
+    if (b == 1 && setup_.dilatancy) {
+      weight.block(b) = 1.0;
+      continue;
+    }
     extract_diagonal(system_matrix_.block(b, b), weight.block(b));
     for (auto& w : weight.block(b)) {
       const double d = std::abs(w);

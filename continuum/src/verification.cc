@@ -12,6 +12,8 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "flow_problem.h"
 #include "manufactured_forcing.h"
@@ -120,28 +122,46 @@ Grad mms_grad(const Point2& x) {
   return g;
 }
 
-/// sigma = -p I + 2 eta(|D|^2, p) D of exact fields.
-Grad exact_stress(const ViscosityModel& visc, const Point2& x,
-                  const std::function<double(const Point2&)>& p) {
+/// The viscosity model's outputs at the exact fields at @p x (D their strain rate).
+RheologyOutputs exact_rheology(const ViscosityModel& visc, const Point2& x, double p, Grad& D) {
   const Grad g = mms_grad(x);
-  const Grad D = 0.5 * (g + transpose(g));
+  D = 0.5 * (g + transpose(g));
   RheologyInputs in;
   in.resize(1);
   RheologyOutputs out;
   out.resize(1);
   in.strain_rate_sq[0] = 0.5 * scalar_product(D, D);
-  in.pressure[0] = p(x);
+  in.pressure[0] = p;
   visc.evaluate(in, out);
-  Grad s = 2 * out.viscosity[0] * D;
-  s[0][0] -= in.pressure[0];
-  s[1][1] -= in.pressure[0];
+  return out;
+}
+
+/// sigma = -p I + 2 eta(|D|^2, p) D of exact fields.
+Grad exact_stress(const ViscosityModel& visc, const Point2& x,
+                  const std::function<double(const Point2&)>& p) {
+  Grad D;
+  const double px = p(x);
+  Grad s = 2 * exact_rheology(visc, x, px, D).viscosity[0] * D;
+  s[0][0] -= px;
+  s[1][1] -= px;
   return s;
 }
 
+/// delta(I) of @p law at the exact fields' I (mu(I) viscosities only).
+double exact_deficit(const ViscosityModel& visc, const internal::DilatancyLaw& law,
+                     const Point2& x, const std::function<double(const Point2&)>& p) {
+  Grad D;
+  return law.deficit(exact_rheology(visc, x, p(x), D).inertial_number[0]);
+}
+
+/// The manufactured solution on @p refinement; with @p dilatancy the medium is dilatant
+/// (ProblemSetup::dilatancy): the body force is -div sigma / (1 - delta) and the continuity
+/// source div((1 - delta) u) = -u.grad delta of the exact fields (central differences).
 ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
                                     const std::function<double(const Point2&)>& p_exact,
                                     LinearSolver solver = LinearSolver::direct,
-                                    SchurApproximation schur = SchurApproximation::diagonal_a) {
+                                    SchurApproximation schur = SchurApproximation::diagonal_a,
+                                    std::optional<internal::DilatancyLaw> dilatancy = {}) {
   Triangulation<dim> tria;
   GridGenerator::hyper_cube(tria, 0, 1, true);  // ids 0: x=0, 1: x=1, 2: y=0, 3: y=1
   tria.refine_global(refinement);
@@ -156,6 +176,22 @@ ManufacturedResult run_manufactured(int refinement, const ViscosityModel& visc,
     return internal::minus_divergence(
         [&](const Point2& y) { return exact_stress(visc, y, p_exact); }, x);
   };
+  if (dilatancy) {
+    const internal::DilatancyLaw law = *dilatancy;
+    setup.dilatancy = law;
+    const auto delta = [&visc, law, p_exact](const Point2& x) {
+      return exact_deficit(visc, law, x, p_exact);
+    };
+    setup.body_force = [f = setup.body_force, delta](const Point2& x) {
+      return Vec2(f(x) / (1 - delta(x)));
+    };
+    setup.continuity_source = [delta](const Point2& x) {
+      const double h = 1e-5;
+      const Vec2 grad({(delta(Point2(x[0] + h, x[1])) - delta(Point2(x[0] - h, x[1]))) / (2 * h),
+                       (delta(Point2(x[0], x[1] + h)) - delta(Point2(x[0], x[1] - h))) / (2 * h)});
+      return -(mms_u(x) * grad);
+    };
+  }
   // start from rest at the mean pressure (not from the answer)
   const double p_mean = p_exact(Point2(0.5, 0.5));
   setup.initial_pressure = [p_mean](const Point2&) { return p_mean; };
@@ -189,11 +225,15 @@ ManufacturedResult manufactured_stokes(int refinement, LinearSolver solver,
       [](const Point2& x) { return std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); }, solver, schur);
 }
 
-ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params) {
+ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params,
+                                     double dilatancy_a) {
   MuIRheology visc(params);
-  return run_manufactured(refinement, visc, [](const Point2& x) {
-    return 2 + std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]);
-  });
+  std::optional<internal::DilatancyLaw> law;
+  if (dilatancy_a > 0) law = internal::DilatancyLaw{dilatancy_a, 0.9};
+  return run_manufactured(
+      refinement, visc,
+      [](const Point2& x) { return 2 + std::cos(M_PI * x[0]) * std::cos(M_PI * x[1]); },
+      LinearSolver::direct, SchurApproximation::diagonal_a, law);
 }
 
 namespace {
@@ -201,9 +241,10 @@ namespace {
 /// J(x) d against the central difference of R on @p tria (the unit square refined twice) with
 /// the viscosity @p visc: the body of check_jacobian and check_jacobian_fluidity.
 JacobianCheck jacobian_on(Triangulation<dim>& tria, const ViscosityModel& visc,
-                          bool inertia, bool friction_wall) {
+                          bool inertia, bool friction_wall, double dilatancy_a = 0) {
   ProblemSetup setup;
   setup.viscosity = &visc;
+  if (dilatancy_a > 0) setup.dilatancy = internal::DilatancyLaw{dilatancy_a, 0.9};
   setup.bc.dirichlet[0] = mms_u;
   setup.bc.dirichlet[3] = mms_u;
   setup.bc.traction[1] = [](const Point2& x, const Vec2& n) { return Vec2(-(2 + x[1]) * n); };
@@ -262,12 +303,13 @@ JacobianCheck jacobian_on(Triangulation<dim>& tria, const ViscosityModel& visc,
 
 }  // namespace
 
-JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall) {
+JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall,
+                             double dilatancy_a) {
   Triangulation<dim> tria;
   GridGenerator::hyper_cube(tria, 0, 1, true);
   tria.refine_global(2);
   const MuIRheology visc(params);
-  return jacobian_on(tria, visc, inertia, friction_wall);
+  return jacobian_on(tria, visc, inertia, friction_wall, dilatancy_a);
 }
 
 JacobianCheck check_jacobian_fluidity(const RheologyParams& params, bool friction_wall,
@@ -368,6 +410,7 @@ LidBoxResult lid_box(const LidBoxSpec& s) {
   setup.bc.dirichlet[3] = [U](const Point2&) { return Vec2({U, 0}); };
   setup.bc.mean_pressure = internal::MeanPressure{3, P};
   if (g > 0) setup.body_force = [=](const Point2&) { return Vec2({0, -rho * g}); };
+  if (s.dilatancy_a > 0) setup.dilatancy = internal::DilatancyLaw{s.dilatancy_a, 0.9};
   // initial guess: the lid's pressure everywhere, the medium at rest (the solver must find
   // the gradient and the profile)
   setup.initial_pressure = [P](const Point2&) { return P; };
@@ -378,11 +421,22 @@ LidBoxResult lid_box(const LidBoxSpec& s) {
   LidBoxResult r;
   r.converged = problem.report().converged;
   internal::PointState st;
+  // the weight above each of the grid's heights: rho g int_y^H (1 - delta) (trapezoids on 256
+  // intervals, delta from the solution's I on the column x = width / 2; delta = 0 when the
+  // medium is incompressible)
+  const int n = 256;
+  std::vector<double> weight(n + 1, 0.0), kept(n + 1, 1.0);
+  for (int k = 0; k <= n && s.dilatancy_a > 0; ++k)
+    if (problem.point_state(Point2(s.width / 2, H * k / n), st))
+      kept[k] = 1 - setup.dilatancy->deficit(st.inertial_number);
+  for (int k = n - 1; k >= 0; --k)
+    weight[k] = weight[k + 1] + rho * g * 0.5 * (kept[k] + kept[k + 1]) * H / n;
+  r.weight_deficit = (rho * g * H - weight[0]) / P;
   for (int i = 0; i <= 8; ++i)
     for (int j = 0; j <= 8; ++j) {
       const Point2 x(s.width * i / 8.0, H * j / 8.0);
       if (!problem.point_state(x, st)) continue;
-      const double p = P + rho * g * (H - x[1]);
+      const double p = P + weight[j * n / 8];
       r.max_pressure_error = std::max(r.max_pressure_error, std::abs(st.pressure - p) / P);
       if (U != 0)
         r.max_velocity_error =

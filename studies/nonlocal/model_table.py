@@ -7,7 +7,9 @@ law measured on the grains, nonlocal fluidity (A = 0.5, and A calibrated on the 
 
 NONLOCAL_RUNS: studies/nonlocal/nonlocal_study.sh OUT models (FEM runs named SCENE_local,
 SCENE_wall, SCENE_A0.5, SCENE_wall_A0.5, and SCENE_Acal, SCENE_wall_Acal where the grains'
-rheology file has a [nonlocal] table: the demo's, not the depth sweep's); ONE_BOX_RUNS:
+rheology file has a [nonlocal] table: the demo's, not the depth sweep's, and SCENE_dil,
+SCENE_wall_dil, the local law with continuum.dilatancy = "phi_i", alone and with the wall
+law); ONE_BOX_RUNS:
 studies/one_box's runs (the DEM of the demo at Omega 0, 2, 4, 8 and of the 16 D box at 0, 2, 4,
 one bed each, means over 10-60 d);
 DEPTH_RUNS: studies/depth's runs (the heavy lid at 4, 8, 12 D pooled over three beds, forces
@@ -33,7 +35,8 @@ sys.path[:0] = [os.path.join(HERE, "..", "..", "python"), os.path.join(HERE, "..
 from grainlift import io  # noqa: E402
 
 MODELS = [("local", "local mu(I)"), ("wall", "+ wall law"), ("A0.5", "+ NGF A 0.5"),
-          ("wall_A0.5", "+ both"), ("Acal", "+ NGF A cal"), ("wall_Acal", "+ both, A cal")]
+          ("wall_A0.5", "+ both"), ("Acal", "+ NGF A cal"), ("wall_Acal", "+ both, A cal"),
+          ("dil", "+ dilatancy"), ("wall_dil", "+ wall law, dilatancy")]
 NONLOCAL_PRECISION = 0.005
 SCENES = [("demo", 0, "demo_o0"), ("demo", 2, "demo_o2"), ("demo", 4, "demo_o4"),
           ("demo", 8, "demo_o8"), ("big", 0, "big_o0"), ("big", 2, "big_o2"),

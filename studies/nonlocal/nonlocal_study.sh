@@ -86,6 +86,7 @@ if [[ $PART == models || $PART == all ]]; then
   ACAL=$(awk '/^\[/ { t = $0 } t == "[nonlocal]" && $1 == "amplitude" { print $3 }' \
     cases/demo/rheology.toml)
   NGF_CAL=(--set 'continuum.model="nonlocal_fluidity"' --set "continuum.nonlocal_amplitude=$ACAL")
+  DIL=(--set 'continuum.dilatancy="phi_i"')  # the calibrated Phi(I) of the case's rheology
   for box in demo big; do
     extra=()
     [[ $box == big ]] && extra=("${BIG[@]}")
@@ -95,6 +96,9 @@ if [[ $PART == models || $PART == all ]]; then
       run "${box}_O${W}_local" "${extra[@]}" --set "intruder.omega=$omega"
       run "${box}_O${W}_A0.5" "${extra[@]}" --set "intruder.omega=$omega" "${NGF[@]}"
       run "${box}_O${W}_wall" "${extra[@]}" --set "intruder.omega=$omega" "${MEASURED[@]}"
+      run "${box}_O${W}_dil" "${extra[@]}" --set "intruder.omega=$omega" "${DIL[@]}"
+      run "${box}_O${W}_wall_dil" "${extra[@]}" --set "intruder.omega=$omega" \
+        "${MEASURED[@]}" "${DIL[@]}"
       run "${box}_O${W}_wall_A0.5" "${extra[@]}" --set "intruder.omega=$omega" \
         "${MEASURED[@]}" "${NGF[@]}"
       [[ -n $ACAL ]] || continue
@@ -110,6 +114,8 @@ if [[ $PART == models || $PART == all ]]; then
     coulomb=(--set 'continuum.wall="coulomb"' --set continuum.wall_friction=0.117)
     run "depth_h${h}_wall" "${d6[@]}" "${coulomb[@]}"
     run "depth_h${h}_wall_A0.5" "${d6[@]}" "${coulomb[@]}" "${NGF[@]}"
+    run "depth_h${h}_dil" "${d6[@]}" "${DIL[@]}"
+    run "depth_h${h}_wall_dil" "${d6[@]}" "${coulomb[@]}" "${DIL[@]}"
   done
   CASE=cases/demo/demo.toml
 fi

@@ -119,6 +119,7 @@ TEST(KeyDefaults, ContinuumConfigAgreesWithTheRegistry) {
   m.check("continuum.max_iterations", f.max_nonlinear_iterations, e.max_nonlinear_iterations);
   m.check("continuum.picard_iterations", f.picard_iterations, e.picard_iterations);
   m.check("continuum.linear_solver", f.linear_solver, e.linear_solver);
+  m.check("continuum.dilatancy", f.dilatancy.enabled, e.dilatancy.enabled);
   EXPECT_TRUE(m.keys.empty()) << "ContinuumConfig defaults differ from the registry for:"
                               << m.text();
   // Not the struct's: a case's default is a stated error over nested levels (1% up to
@@ -295,6 +296,40 @@ TEST(ContinuumBox, OpenAndSymmetricBoxesAreWhereTheKeysSay) {
     ADD_FAILURE() << "no error";
   } catch (const grainlift::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("continuum.far_field"), std::string::npos) << e.what();
+  }
+}
+
+// continuum.dilatancy = "phi_i" takes Phi(I) = phi_max - a I from the case's rheology file
+// (the demo's: 0.7945 - 0.3122 I, calibrated up to I = 0.470) and floors it at the calibrated
+// range's end, to the file's digits; a case with no calibrated law is refused, naming the key.
+// "auto" (the default) is phi_i on the demo, none with the nonlocal model, linearised gravity
+// or no calibrated law.
+TEST(ContinuumGlue, DilatancyTakesTheCalibratedPhiOfI) {
+  namespace gc = grainlift::continuum;
+  const gc::ContinuumConfig f = gc::make_continuum_config(
+      case_file("cases/demo/demo.toml", {"continuum.dilatancy=\"phi_i\""}), "out");
+  ASSERT_TRUE(f.dilatancy.enabled);
+  const gc::ContinuumConfig automatic =
+      gc::make_continuum_config(case_file("cases/demo/demo.toml"), "out");
+  EXPECT_TRUE(automatic.dilatancy.enabled);
+  EXPECT_EQ(automatic.dilatancy.phi_min, f.dilatancy.phi_min);
+  for (const char* other : {"continuum.model=\"nonlocal_fluidity\"",
+                            "continuum.gravity_treatment=\"linearised\""})
+    EXPECT_FALSE(gc::make_continuum_config(case_file("cases/demo/demo.toml", {other}), "out")
+                     .dilatancy.enabled)
+        << other;
+  EXPECT_FALSE(gc::make_continuum_config(minimal_case(), "out").dilatancy.enabled);
+  EXPECT_NEAR(f.dilatancy.phi_max, 0.79449070839902569, 1e-15);
+  EXPECT_NEAR(f.dilatancy.a, 0.31220425511713124, 1e-15);
+  EXPECT_NEAR(f.dilatancy.phi_min, 0.79449070839902569 - 0.31220425511713124 * 0.46977571444949018,
+              1e-12);
+  try {
+    grainlift::Case c = minimal_case();
+    c.continuum.dilatancy = "phi_i";
+    gc::make_continuum_config(c, "out");
+    ADD_FAILURE() << "no error";
+  } catch (const grainlift::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("continuum.dilatancy"), std::string::npos) << e.what();
   }
 }
 

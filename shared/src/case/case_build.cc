@@ -11,6 +11,7 @@
 #include "case/case_reader_parts.h"
 #include "grainlift/shared/case/case_keys.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/rheology/rheology_cache.h"
 #include "grainlift/shared/rheology/rheology_file.h"
 
 namespace grainlift::case_detail {
@@ -129,6 +130,7 @@ ContinuumSection read_continuum(const toml::table& r, const toml::table& root) {
   cn.nonlocal_iterations = int(get_int(r, "continuum.nonlocal_iterations"));
   cn.nonlocal_relaxation = get_real(r, "continuum.nonlocal_relaxation");
   cn.nonlocal_tolerance = get_real(r, "continuum.nonlocal_tolerance");
+  cn.dilatancy = get_text(r, "continuum.dilatancy");
   return cn;
 }
 
@@ -240,6 +242,7 @@ void apply_rheology_file(const toml::table& root, const std::string& name, Case&
     c.continuum.mu_s = law.mu_i.mu_s;
     c.continuum.mu_2 = law.mu_i.mu_2;
     c.continuum.I0 = law.mu_i.I0;
+    take_phi_i(law, c.continuum);
     if (c.continuum.wall_law != "coulomb") {
       if (!law.wall)
         diag.error(diag.where("continuum.wall_law", root.at_path("continuum.wall_law").node()),

@@ -103,12 +103,19 @@ std::string use_cached_rheology(Case& c) {
   cn.mu_s = law.mu_i.mu_s;
   cn.mu_2 = law.mu_i.mu_2;
   cn.I0 = law.mu_i.I0;
+  take_phi_i(law, cn);
   cn.rheology_file = path;
   cn.law_source = "calibration cache";
   return fmt::format("continuum: mu(I) calibrated for these grains at {:g} Pa (mu_s {:.4g}, "
                      "mu_2 {:.4g}, I0 {:.4g}; cached {}); name continuum.mu_s, mu_2, I0 in the "
                      "case to use another law",
                      p, cn.mu_s, cn.mu_2, cn.I0, path);
+}
+
+void take_phi_i(const RheologyFile& law, ContinuumSection& cn) {
+  cn.phi_max = law.phi_i.phi_max;
+  cn.phi_a = law.phi_i.a;
+  cn.phi_I_max = law.I_max;
 }
 
 void cache_rheology(const std::string& path, const RheologyFile& law) {

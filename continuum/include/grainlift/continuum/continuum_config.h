@@ -52,6 +52,15 @@ struct NonlocalParams {
   double tolerance = 2e-3;
   double relaxation = 1.0;   ///< w of the Anderson mixing of log g (nonlocal_coupling.cc)
 };
+
+/// Dilatancy (continuum.dilatancy = "phi_i"): the packing fraction follows the calibrated
+/// Phi(I) = phi_max - a I, floored at phi_min (the calibrated range's end, not extrapolated);
+/// the medium keeps the mass of its grains, div(Phi u) = 0 (steady in the intruder's frame),
+/// and weighs rho (Phi / phi_max) g, rho the case's bulk density. docs/continuum-model.md.
+struct DilatancyParams {
+  bool enabled = false;
+  double phi_max = 0, a = 0, phi_min = 0;
+};
 /// Schur complement approximation S ~ B A^{-1} B^T of the amg preconditioner.
 enum class SchurApproximation {
   diagonal_a,     ///< B diag(A)^{-1} B^T, one AMG V-cycle (default: robust to the eta_min/eta_max
@@ -128,6 +137,7 @@ struct ContinuumConfig {
   bool linearised_gravity = false;
   ContinuumModel model = ContinuumModel::local;
   NonlocalParams nonlocal;
+  DilatancyParams dilatancy;
   // ---- numerics
   int refinement = 2;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;

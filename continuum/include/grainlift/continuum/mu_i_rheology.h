@@ -30,9 +30,13 @@ struct RheologyOutputs {
   std::vector<double> deta_dpressure;   ///< s, d eta / d p
   std::vector<double> friction;         ///< mu(I) (0 for a Newtonian fluid)
   std::vector<double> inertial_number;  ///< I = 2 |D| d / sqrt(p / rho_s) (0 for a Newtonian fluid)
+  /// dI / d|D|^2 (s^2) and dI / dp (1/Pa) where the law has I (0 elsewhere; the dilatant
+  /// medium's Jacobian, DilatancyLaw)
+  std::vector<double> dI_dstrain_sq, dI_dpressure;
   void resize(std::size_t n) {
     viscosity.resize(n); deta_dstrain_sq.resize(n); deta_dpressure.resize(n);
     friction.resize(n); inertial_number.resize(n);
+    dI_dstrain_sq.assign(n, 0.0); dI_dpressure.assign(n, 0.0);
   }
 };
 

@@ -46,8 +46,12 @@ ManufacturedResult manufactured_stokes(int refinement, LinearSolver solver = Lin
                                        SchurApproximation schur = SchurApproximation::diagonal_a);
 
 /// @brief Same velocity with p = 2 + cos(pi x) cos(pi y) and the regularised mu(I) viscosity
-/// of @p params; the body force is -div sigma of the exact fields (central differences).
-ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params);
+/// of @p params; the body force is -div sigma of the exact fields (central differences). With
+/// @p dilatancy_a > 0 the medium is dilatant with delta(I) = min(dilatancy_a I, 0.9)
+/// (continuum.dilatancy's law): the body force is -div sigma / (1 - delta) and the continuity
+/// div((1 - delta) u) = -u.grad delta of the exact fields.
+ManufacturedResult manufactured_mu_i(int refinement, const RheologyParams& params,
+                                     double dilatancy_a = 0);
 
 /// Finite-difference check of the Newton Jacobian.
 struct JacobianCheck {
@@ -58,8 +62,10 @@ struct JacobianCheck {
 
 /// @brief Compare J(x) d with (R(x + h d) - R(x - h d)) / 2h at a smooth state x (mu(I) with
 /// @p params, p > 0) on a small unit-square mesh with a Dirichlet side, a traction side and,
-/// when @p friction_wall, a regularised Coulomb wall; @p inertia adds rho (u.grad)u.
-JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall);
+/// when @p friction_wall, a regularised Coulomb wall; @p inertia adds rho (u.grad)u;
+/// @p dilatancy_a > 0 a dilatant medium, delta(I) = min(dilatancy_a I, 0.9).
+JacobianCheck check_jacobian(const RheologyParams& params, bool inertia, bool friction_wall,
+                             double dilatancy_a = 0);
 
 /// @brief The same check for the flow step of the nonlocal fluidity's splitting: eta = p+ / g
 /// (FluidityViscosity) with a fixed smooth fluidity g = 1 + x + y / 2 (1/s, Q2 on the mesh),
@@ -125,11 +131,17 @@ struct LidBoxSpec {
   double bulk_density = 1500;          ///< kg/m^3
   int cells_x = 8, cells_y = 8;
   RheologyParams rheology;
+  /// > 0: a dilatant medium, delta(I) = min(dilatancy_a I, 0.9) (continuum.dilatancy's law):
+  /// it weighs rho (1 - delta) g, so p = P_lid + rho g int_y^H (1 - delta)
+  double dilatancy_a = 0;
 };
 struct LidBoxResult {
   bool converged = false;
-  /// max |p_h - p| / P_lid at the nodes of a 9 x 9 grid
+  /// max |p_h - p| / P_lid at the nodes of a 9 x 9 grid (p of the dilated weight with
+  /// dilatancy_a, delta from the solution's own I)
   double max_pressure_error = 0;
+  /// rho g int_0^H delta / P_lid: the weight the dilatancy took off the column
+  double weight_deficit = 0;
   /// max |u_h - U y / H| / U on that grid (0 when the lid rests)
   double max_velocity_error = 0;
   double lid_mean_pressure = 0;        ///< Pa, the mean pressure over the lid

@@ -121,6 +121,10 @@ struct ContinuumSection {
   int nonlocal_iterations{};      ///< splitting iterations at most (nonlocal_fluidity)
   double nonlocal_relaxation{};   ///< w of the splitting (nonlocal_fluidity)
   double nonlocal_tolerance{};    ///< relative force change at which the splitting stops
+  std::string dilatancy;  ///< "auto" | "none" | "phi_i" (the rheology file's Phi(I))
+  /// Phi(I) = phi_max - a I of the calibrated law (rheology_file or the calibration cache),
+  /// I_max the top of its calibrated range; phi_max = 0 when no calibrated law was read
+  double phi_max{}, phi_a{}, phi_I_max{};
 };
 
 struct OutputSection {

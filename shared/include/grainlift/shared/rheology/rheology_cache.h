@@ -34,6 +34,10 @@ std::string grain_material_key(const Case& c, double pressure);
 /// switches caching off).
 std::string rheology_cache_path(const Case& c, double pressure);
 
+/// @brief The dilatancy law Phi(I) of @p law and the top of its calibrated range into @p cn
+/// (continuum.dilatancy reads them).
+void take_phi_i(const RheologyFile& law, ContinuumSection& cn);
+
 /// @brief Writes @p law to the cache entry @p path (made by rheology_cache_path) with its
 /// checksum line, atomically. @throws RunError when it cannot be written.
 void cache_rheology(const std::string& path, const RheologyFile& law);
