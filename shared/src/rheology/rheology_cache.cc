@@ -112,12 +112,6 @@ std::string use_cached_rheology(Case& c) {
                      p, cn.mu_s, cn.mu_2, cn.I0, path);
 }
 
-void take_phi_i(const RheologyFile& law, ContinuumSection& cn) {
-  cn.phi_max = law.phi_i.phi_max;
-  cn.phi_a = law.phi_i.a;
-  cn.phi_I_max = law.I_max;
-}
-
 void cache_rheology(const std::string& path, const RheologyFile& law) {
   const std::string text = rheology_file_text(law, path);
   write_text_atomically(path, text + fmt::format("{}{}\n", kCacheLine, fnv1a64_hex(text)));

@@ -35,8 +35,12 @@ std::string grain_material_key(const Case& c, double pressure);
 std::string rheology_cache_path(const Case& c, double pressure);
 
 /// @brief The dilatancy law Phi(I) of @p law and the top of its calibrated range into @p cn
-/// (continuum.dilatancy reads them).
-void take_phi_i(const RheologyFile& law, ContinuumSection& cn);
+/// (continuum.dilatancy reads them). Inline: the case reader calls it without the cache.
+inline void take_phi_i(const RheologyFile& law, ContinuumSection& cn) {
+  cn.phi_max = law.phi_i.phi_max;
+  cn.phi_a = law.phi_i.a;
+  cn.phi_I_max = law.I_max;
+}
 
 /// @brief Writes @p law to the cache entry @p path (made by rheology_cache_path) with its
 /// checksum line, atomically. @throws RunError when it cannot be written.
