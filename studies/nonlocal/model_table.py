@@ -98,6 +98,51 @@ def depth_dem(depth_runs):
     return out
 
 
+def surface_z(one_box, dem_name, runs, name):
+    """(rms z of sigma_n, of sigma_t) over the 64 angles of the surface traces, z = (FEM - DEM)
+    / the DEM's standard error at that angle (both traces smoothed by the same 8 deg kernel on
+    the same angles; the FEM's own error of the trace is not stored and not included), or
+    None when the FEM run is missing or failed."""
+    path = os.path.join(runs, name, "fem.h5")
+    if not os.path.isfile(path):
+        return None
+    f = io.read(path)
+    if int(f.metadata.get("partial", 0)):
+        return None
+    d = io.read(os.path.join(one_box, dem_name, "dem"), "dem")
+    out = []
+    for q in ("sigma_n", "sigma_t"):
+        zs = [(a - b) / e for a, b, e in zip(f["surface/" + q], d["surface/" + q],
+                                            d["surface/" + q + "_stderr"]) if e > 0]
+        out.append(math.sqrt(sum(v * v for v in zs) / len(zs)))
+    return out
+
+
+def print_surface_table(one_box, nonlocal_runs):
+    """The surface stresses against theta: per scene and model, the rms z of sigma_n and
+    sigma_t over the intruder's surface, and per model the scenes where it is the closest."""
+    print("\nSurface stress against theta: rms over 64 angles of (FEM - DEM) / DEM standard "
+          "error, sigma_n / sigma_t\n")
+    print("| scene | " + " | ".join(t for _, t in MODELS) + " |")
+    print("|---|" + "---|" * len(MODELS))
+    closest = {k: [0, 0] for k, _ in MODELS}
+    for box, W, dem_name in SCENES:
+        if not os.path.isdir(os.path.join(one_box, dem_name, "dem")):
+            continue
+        zs = {k: surface_z(one_box, dem_name, nonlocal_runs, f"{box}_O{W}_{k}")
+              for k, _ in MODELS}
+        zs = {k: v for k, v in zs.items() if v}
+        for i in (0, 1):
+            if zs:
+                closest[min(zs, key=lambda k: zs[k][i])][i] += 1
+        label = f"{'demo' if box == 'demo' else '16 D box'}, Omega {W}"
+        print(f"| {label} | " + " | ".join(
+            f"{zs[k][0]:.1f} / {zs[k][1]:.1f}" if k in zs else "-" for k, _ in MODELS) + " |")
+    print("\nscenes where each model is the closest, sigma_n / sigma_t")
+    for k, t in MODELS:
+        print(f"{t}: {closest[k][0]} / {closest[k][1]}")
+
+
 def z(f, d):
     e = math.hypot(f[1], d[1])
     return (f[0] - d[0]) / e if e > 0 else float("nan")
@@ -151,6 +196,7 @@ def main(argv):
           "rows where it is the closest of the models that converged")
     for k, t in MODELS:
         print(f"{t}: {converged[k]} rows, within 2 on {within[k]}, closest on {closest[k]}")
+    print_surface_table(one_box, nonlocal_runs)
     return 0
 
 
