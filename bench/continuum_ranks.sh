@@ -11,8 +11,7 @@ G=${GRAINLIFT:-build/bin/grainlift}
 CASE=$1; shift
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
-common=(--solver fem --threads 1 --quiet --set output.fields=false --set output.vtu=false
-  --set 'continuum.dilatancy="none"' "$@")  # as measured in docs/continuum-model.md
+common=(--solver fem --threads 1 --quiet --set output.fields=false --set output.vtu=false "$@")
 load() { cut -d' ' -f1 /proc/loadavg; }
 run() {  # run LABEL COMMAND...: prints "LABEL wall_s load"
   local label=$1; shift

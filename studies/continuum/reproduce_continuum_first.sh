@@ -5,9 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 O=${1:-runs/continuum}
 G=${GRAINLIFT:-build/bin/grainlift}
-# incompressible, as the tables were measured (continuum.dilatancy's auto is newer)
-S=(--solver fem --quiet --threads 1 --set output.fields=false --set output.vtu=false
-  --set 'continuum.dilatancy="none"')
+S=(--solver fem --quiet --threads 1 --set output.fields=false --set output.vtu=false)
 # Guillard gradient case: depth series (fixed FE box), mesh levels, the same P0 without gradient
 "$G" sweep cases/guillard2014/gradient.toml "${S[@]}" --set "continuum.box_half_size=[0.05,0.025]" \
   --set "domain.y_range=[-0.3,0.06]" \

@@ -31,9 +31,7 @@ O=${2:-runs/continuum_study}
 G=${GRAINLIFT:-build/bin/grainlift}
 PY=${PYTHON:-/usr/bin/python3}
 CASE=cases/guillard2014/gradient.toml
-# incompressible, as the tables were measured (continuum.dilatancy's auto is newer)
-SHIPPED=(--solver fem --threads 1 --set output.fields=false --set output.vtu=false
-  --set 'continuum.dilatancy="none"')
+SHIPPED=(--solver fem --threads 1 --set output.fields=false --set output.vtu=false)
 S=("${SHIPPED[@]}" --set "domain.y_range=[-0.6,0.06]")  # the tall bed of the depth studies
 BOX="continuum.box_half_size=[0.06,0.04]"
 D=0.015
@@ -159,7 +157,6 @@ spin_run() {  # spin_run OUT_SUBDIR WALL OMEGA ARGS...: the Kumar geometry, P0 =
   [[ -f "$dir/fem.h5" ]] && return 0
   "${LAUNCH[@]}" "$G" run cases/kumar2019/reduced_phi080.toml --solver fem --quiet --threads 1 \
     --set output.fields=false --set output.vtu=false --set continuum.wall=\"$wall\" \
-    --set 'continuum.dilatancy="none"' \
     --set "continuum.box_half_size=[0.5,0.35]" --set intruder.omega=$om "$@" --out "$dir" ||
     echo "FAILED: $dir" | tee -a "$O/failures.txt"
 }

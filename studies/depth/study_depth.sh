@@ -66,8 +66,6 @@ run_one() {  # run_one SOLVER GRAVITY_TREATMENT NAME ARGS...
   # the FEM at refinement 2, the level the tables are of (the case states none: the default
   # would be a 1% target)
   [[ $solver == fem ]] && extra+=(--set continuum.refinement=2)
-  # incompressible, as the tables were measured (continuum.dilatancy's auto is newer)
-  [[ $solver == fem ]] && extra+=(--set 'continuum.dilatancy="none"')
   if ! "$G" run "$CASE" --solver "$solver" --threads 1 --quiet --out "$dir" "$@" "${extra[@]}" \
       > "$dir/log.txt" 2>&1; then
     echo "FAILED: $dir (see $dir/log.txt)"; return 1

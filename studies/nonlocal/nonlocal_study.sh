@@ -29,12 +29,9 @@ run() {  # run NAME ARGS...
   local name=$1; shift
   local dir="$O/$name"
   mkdir -p "$dir"
-  # incompressible unless the run names continuum.dilatancy (its default auto is dilatant)
-  local dil=(--set 'continuum.dilatancy="none"')
-  [[ "$*" == *continuum.dilatancy* ]] && dil=()
   if [[ ! -f "$dir/fem.h5" ]]; then
     "$G" run "$CASE" --solver fem --quiet --out "$dir" --set continuum.refinement=2 \
-      --set continuum.target_error=0 "${dil[@]}" "$@" \
+      --set continuum.target_error=0 "$@" \
       > "$dir/log.txt" 2>&1 ||
       { echo "| $name | failed: $(tail -1 "$dir/log.txt" | cut -c1-160) |"; return 0; }
   fi

@@ -59,8 +59,6 @@ run_one() {  # run_one DIR SOLVER CASE ARGS...
   # the FEM at refinement 2 where the scene states no level (the cases' default is a 1% target)
   [[ $solver == fem && $* != *continuum.refinement* ]] &&
     set -- "$@" --set continuum.refinement=2 --set continuum.target_error=0
-  # incompressible, as the tables were measured (continuum.dilatancy's auto is newer)
-  [[ $solver != dem ]] && set -- "$@" --set "'continuum.dilatancy=\"none\"'"
   mkdir -p "$dir"
   if ! eval "\"$G\" run $case --solver $solver --threads 1 --quiet --out \"$dir\" $*" \
       > "$dir/log.txt" 2>&1; then

@@ -302,23 +302,26 @@ TEST(ContinuumBox, OpenAndSymmetricBoxesAreWhereTheKeysSay) {
 // continuum.dilatancy = "phi_i" takes Phi(I) = phi_max - a I from the case's rheology file
 // (the demo's: 0.7945 - 0.3122 I, calibrated up to I = 0.470) and floors it at the calibrated
 // range's end, to the file's digits; a case with no calibrated law is refused, naming the key.
-// "auto" (the default) is phi_i on the demo, none with the nonlocal model, linearised gravity
-// or no calibrated law.
+// "auto" is phi_i on the demo, none with the nonlocal model, linearised gravity or no
+// calibrated law; the default ("none") is incompressible.
 TEST(ContinuumGlue, DilatancyTakesTheCalibratedPhiOfI) {
   namespace gc = grainlift::continuum;
   const gc::ContinuumConfig f = gc::make_continuum_config(
       case_file("cases/demo/demo.toml", {"continuum.dilatancy=\"phi_i\""}), "out");
   ASSERT_TRUE(f.dilatancy.enabled);
-  const gc::ContinuumConfig automatic =
-      gc::make_continuum_config(case_file("cases/demo/demo.toml"), "out");
-  EXPECT_TRUE(automatic.dilatancy.enabled);
-  EXPECT_EQ(automatic.dilatancy.phi_min, f.dilatancy.phi_min);
+  const char* automatic = "continuum.dilatancy=\"auto\"";
+  const gc::ContinuumConfig a =
+      gc::make_continuum_config(case_file("cases/demo/demo.toml", {automatic}), "out");
+  EXPECT_TRUE(a.dilatancy.enabled);
+  EXPECT_EQ(a.dilatancy.phi_min, f.dilatancy.phi_min);
   for (const char* other : {"continuum.model=\"nonlocal_fluidity\"",
                             "continuum.gravity_treatment=\"linearised\""})
-    EXPECT_FALSE(gc::make_continuum_config(case_file("cases/demo/demo.toml", {other}), "out")
-                     .dilatancy.enabled)
+    EXPECT_FALSE(
+        gc::make_continuum_config(case_file("cases/demo/demo.toml", {automatic, other}), "out")
+            .dilatancy.enabled)
         << other;
-  EXPECT_FALSE(gc::make_continuum_config(minimal_case(), "out").dilatancy.enabled);
+  EXPECT_FALSE(gc::make_continuum_config(case_file("cases/demo/demo.toml"), "out")
+                   .dilatancy.enabled);
   EXPECT_NEAR(f.dilatancy.phi_max, 0.79449070839902569, 1e-15);
   EXPECT_NEAR(f.dilatancy.a, 0.31220425511713124, 1e-15);
   EXPECT_NEAR(f.dilatancy.phi_min, 0.79449070839902569 - 0.31220425511713124 * 0.46977571444949018,
