@@ -54,7 +54,7 @@ struct FlowProblem::AssemblyScratch {
   std::vector<types::global_dof_index> idx;
   QuadratureRheology qr;  ///< D(u), p and the viscosity model's outputs
   std::vector<Tensor<2, dim>> grad;  ///< grad u (inertia only)
-  std::vector<Vec2> uval, fu;        ///< u in the cell (inertia only), u on a face
+  std::vector<Vec2> uval, fu;        ///< u in the cell (inertia, dilatancy), u on a face
   std::vector<double> fp;            ///< p on a face
   std::vector<SymmetricTensor<2, dim>> fsym;  ///< D(u) on a face (dilatancy only)
   RheologyInputs face_in;                     ///< the rheology on a face (dilatancy only)
