@@ -28,13 +28,15 @@ struct Variant {
 /// sleeping is on), and a spinning intruder ploughing along x through the middle.
 std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Variant& v,
                                               double exploit_seconds = 120,
-                                              double stale_ratio = 0) {
+                                              double stale_ratio = 0,
+                                              double trial_multiple = 0) {
   gd::SystemOptions o;
   o.box = {-0.3, 0.3, -0.2, 0.2, true, false};  // x, y bounds (m); periodic in x only
   o.dt = 2e-6;
   o.threads = threads;
   o.tune_exploit_seconds = exploit_seconds;
   o.tune_stale_ratio = stale_ratio;  // 0: the exploit phase ends on its steps or time only
+  o.tune_trial_multiple = trial_multiple;
   auto s = std::make_unique<gd::DemSystem>(o);
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -221,6 +223,26 @@ TEST(Team, TunerTriesAgainWhenTheWorkPerStepChanges) {
       EXPECT_GE(s->tuner_trials(), 2) << "a stale verdict must be tried again";
     } else {
       EXPECT_EQ(s->tuner_trials(), 1) << "one pair of trials, then 7,000 steps of exploit";
+    }
+  }
+}
+
+// Physics: none - the thread tuner must also try again once its exploit phase has run
+// tune_trial_multiple times the wall time of its trials (a wrong first verdict then lasts a
+// bounded time: on the demo one run in six kept one thread on a third of its steps). The
+// ploughed strip on two threads, 20,000 steps in segments of 500: with the rule off one pair
+// of trials; with a multiple of 1 the exploit phase ends once it has run as long as the
+// trials (their 4,000 timed steps), and the trials repeat. Tolerance: exact count on the off
+// side, at least two on the other.
+TEST(Team, TunerTriesAgainAfterAMultipleOfItsTrialsTime) {
+  for (const double multiple : {0.0, 1.0}) {
+    auto s = ploughed_strip(2, false, {}, 120, 0, multiple);
+    ASSERT_EQ(s->threads_allowed(), 2);
+    for (int k = 0; k < 40; ++k) s->advance(500);
+    if (multiple > 0) {
+      EXPECT_GE(s->tuner_trials(), 2) << "the exploit phase must end after the trials' time";
+    } else {
+      EXPECT_EQ(s->tuner_trials(), 1) << "one pair of trials, then the exploit phase";
     }
   }
 }

@@ -44,6 +44,10 @@ struct SystemOptions {
   /// chosen) by more than this factor either way: the trials' verdict is stale (0: never).
   /// A run's first trials see a bed at rest, largely asleep; its front builds later.
   double tune_stale_ratio = 1.5;
+  /// the exploit phase also ends once its wall time exceeds this multiple of its two trials'
+  /// timed wall time (0: never): a wrong verdict lasts at most that long, and the trials cost
+  /// at most about 1/multiple of the run (the demo: trials of ~0.1 s, a verdict kept ~4 s)
+  double tune_trial_multiple = 40;
   std::array<double, 2> gravity{0, 0};  ///< m/s^2, on grains only
 };
 
