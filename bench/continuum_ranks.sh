@@ -6,11 +6,11 @@
 # e.g. bench/continuum_ranks.sh cases/kumar2019/reduced_phi080.toml \
 #        --set continuum.refinement=2 --set 'continuum.linear_solver="amg"'
 set -euo pipefail
+. "$(dirname "$0")/lib.sh"  # scratch_folder
 cd "$(dirname "$0")/.."
 G=${GRAINLIFT:-build/bin/grainlift}
 CASE=$1; shift
-OUT=$(mktemp -d)
-trap 'rm -rf "$OUT"' EXIT
+scratch_folder
 common=(--solver fem --threads 1 --quiet --set output.fields=false --set output.vtu=false "$@")
 load() { cut -d' ' -f1 /proc/loadavg; }
 run() {  # run LABEL COMMAND...: prints "LABEL wall_s load"

@@ -9,12 +9,11 @@
 #
 # About 2 min per repetition on the 2-core reference machine; runs in a temporary folder.
 set -euo pipefail
-. "$(dirname "$0")/lib.sh"  # median
+. "$(dirname "$0")/lib.sh"  # median, scratch_folder
 cd "$(dirname "$0")/.."
 G=$(realpath "${1:-build}/bin/grainlift")
 REPS=${2:-3}
-OUT=$(mktemp -d)
-trap 'rm -rf "$OUT"' EXIT
+scratch_folder
 NGF=(--set 'continuum.model="nonlocal_fluidity"')
 A05=(--set continuum.nonlocal_amplitude=0.5)
 R3=(--set continuum.refinement=3 --set continuum.target_error=1e-5)

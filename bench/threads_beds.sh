@@ -10,12 +10,11 @@
 #
 # About 1.5 min per round on the 2-core reference machine; runs in a temporary folder.
 set -euo pipefail
-. "$(dirname "$0")/lib.sh"  # median
+. "$(dirname "$0")/lib.sh"  # median, scratch_folder
 cd "$(dirname "$0")/.."
 G=$(realpath "${1:-build}/bin/grainlift")
 ROUNDS=${2:-3}
-OUT=$(mktemp -d)
-trap 'rm -rf "$OUT"' EXIT
+scratch_folder
 WIDE=(--set 'domain.x_range=[-1.0,1.0]' --set 'domain.y_range=[-0.7,0.7]')
 declare -A CASE=([demo]=cases/demo/demo.toml [kumar2295]=cases/kumar2019/reduced_phi080.toml
   [kumar6883]=cases/kumar2019/reduced_phi080.toml)

@@ -275,7 +275,7 @@ class FlowProblem {
   /// One Newton (with line search) or Picard step from solution_ at |R| = @p r.
   NonlinearStep nonlinear_step(NonlinearWork& w, bool newton, bool nonlinear, double r,
                                double r_ref);
-  /// The inverse |diagonal| of the system matrix's diagonal blocks (the merit's weights).
+  /// The merit's weights: the inverse |diagonal| of the velocity block, 1 on the pressure rows.
   void jacobi_weights(VectorType& weight) const;
   /// The line-search merit of the residual @p v (weighted or plain norm). Collective.
   double merit(const VectorType& v, const VectorType& weight, bool scaled) const;

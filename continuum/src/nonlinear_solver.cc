@@ -109,21 +109,17 @@ FlowProblem::NonlinearStep FlowProblem::nonlinear_step(NonlinearWork& w, bool ne
   return step;
 }
 
-/// The inverse diagonal 1/|J_ii| of system_matrix_'s diagonal blocks (1 where it is 0). The
-/// pressure block's diagonal is 0 but for the dilatant medium's d delta / dp, which can be
-/// nearly 0 where p is large: its weights are 1 there as elsewhere.
+/// The inverse diagonal 1/|J_ii| of system_matrix_'s velocity block (1 where it is 0), and 1
+/// on the continuity rows: they have no diagonal to scale by (0 for an incompressible medium,
+/// and for a dilatant one only d delta / dp, nearly 0 where p is large: weighted by its inverse
+/// the depth sweep's 4 D case stalled in Picard steps); constrained rows carry no residual.
 void FlowProblem::jacobi_weights(VectorType& weight) const {
-  for (unsigned int b = 0; b < 2; ++b) {
-    if (b == 1 && setup_.dilatancy) {
-      weight.block(b) = 1.0;
-      continue;
-    }
-    extract_diagonal(system_matrix_.block(b, b), weight.block(b));
-    for (auto& w : weight.block(b)) {
-      const double d = std::abs(w);
-      w = d > 0 ? 1.0 / d : 1.0;
-    }
+  extract_diagonal(system_matrix_.block(0, 0), weight.block(0));
+  for (auto& w : weight.block(0)) {
+    const double d = std::abs(w);
+    w = d > 0 ? 1.0 / d : 1.0;
   }
+  weight.block(1) = 1.0;
 }
 
 /// The line search's merit of the residual @p v: sqrt(sum_i w_i v_i^2) when @p scaled, |v|

@@ -347,17 +347,10 @@ void DemSystem::account_segment(long long steps, double seconds) {
       return;
     }
   }
-  // The exploit phase ends after opt_.tune_exploit_seconds too (large beds: many seconds per
-  // thousand steps), and after opt_.tune_trial_multiple times its trials' time, so that a
-  // verdict is tried again within seconds (the demo, two threads, AVX-512: 4 of 10 runs kept
-  // one thread on 19-99% of the steps, 18.5-28.9 s against 18.2-20.2 s with the team).
   if (tune_phase_ == 2) {
     tune_exploit_elapsed_ += seconds;
     tune_exploit_steps_ += steps;
-    const double trials = tune_seconds_[0] + tune_seconds_[1];
-    const bool long_enough =
-        opt_.tune_trial_multiple > 0 && tune_exploit_elapsed_ > opt_.tune_trial_multiple * trials;
-    if (tune_exploit_elapsed_ >= opt_.tune_exploit_seconds || exploit_is_stale() || long_enough) {
+    if (exploit_is_over()) {
       tune_left_ = 0;
       return;
     }
@@ -369,10 +362,19 @@ void DemSystem::account_segment(long long steps, double seconds) {
   tune_left_ -= steps;
 }
 
-bool DemSystem::exploit_is_stale() const {
-  // Measured (reduced Kumar bed widened to 6,883 grains, 10 d, two threads, AVX-512): the run's
-  // first trials, on a bed at rest, found the team slower (9.3 against 8.6 us a step) and the
-  // exploit phase kept one thread to the end, 9.7 s, where the team alone takes 5.5 s.
+bool DemSystem::exploit_is_over() const {
+  // After opt_.tune_exploit_seconds (large beds: many seconds per thousand steps).
+  if (tune_exploit_elapsed_ >= opt_.tune_exploit_seconds) return true;
+  // After opt_.tune_trial_multiple times the trials' time, so that a verdict is tried again
+  // within seconds (the demo, two threads, AVX-512: 4 of 10 runs kept one thread on 19-99% of
+  // the steps, 18.5-28.9 s against 18.2-20.2 s with the team).
+  const double trials = tune_seconds_[0] + tune_seconds_[1];
+  if (opt_.tune_trial_multiple > 0 && tune_exploit_elapsed_ > opt_.tune_trial_multiple * trials)
+    return true;
+  // When its time per step leaves the trial's by opt_.tune_stale_ratio (reduced Kumar bed
+  // widened to 6,883 grains, 10 d, two threads, AVX-512: the run's first trials, on a bed at
+  // rest, found the team slower, 9.3 against 8.6 us a step, and the exploit phase kept one
+  // thread to the end, 9.7 s, where the team alone takes 5.5 s).
   const int side = tune_best_ > 1 ? 1 : 0;
   if (!(opt_.tune_stale_ratio > 0) || tune_exploit_steps_ < kTrialSteps || tune_steps_[side] <= 0)
     return false;

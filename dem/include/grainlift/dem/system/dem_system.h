@@ -341,8 +341,10 @@ class DemSystem {
   /// environment variable GRAINLIFT_TEAM=fixed keeps the whole team (benchmarks of the threaded
   /// step itself).
   void choose_team();
-  /// Whether the exploit phase's time per step has left its trial's (opt_.tune_stale_ratio).
-  bool exploit_is_stale() const;
+  /// Whether the exploit phase is over: its time (opt_.tune_exploit_seconds, or
+  /// opt_.tune_trial_multiple times the trials'), or its time per step left its trial's
+  /// (opt_.tune_stale_ratio).
+  bool exploit_is_over() const;
   /// Adds a segment's steps and wall time to the current trial.
   void account_segment(long long steps, double seconds);
   /// Each trial runs kWarmSteps untimed (the other core's caches are cold and its thread asleep
