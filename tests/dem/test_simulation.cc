@@ -55,6 +55,7 @@ void expect_same_samples(const gd::DemOutput& a, const gd::DemOutput& b) {
     ASSERT_EQ(a.samples[k].contacts, b.samples[k].contacts) << "sample " << k;
   }
   ASSERT_EQ(a.contacts.size(), b.contacts.size());
+  ASSERT_EQ(a.run_max_overlap, b.run_max_overlap);  // the pair loop's largest overlap
 }
 
 /// Runs @p c with a checkpoint every 1,000 steps; returns them encoded (and the run's output

@@ -6,6 +6,7 @@
 // gives the bits of contact_force().
 #include "grainlift/dem/contact/contact_law_batch.h"
 
+#include "step/pair_inputs.h"
 #include "step/simd_target.h"
 
 #undef HWY_TARGET_INCLUDE
@@ -64,8 +65,129 @@ HWY_INLINE void store(double* p, Lanes a) { hn::Store(a.v, D(), p); }
 
 // the law itself, compiled here for this target's lanes
 #include "grainlift/dem/contact/contact_lanes-inl.h"
+#include "step/lanes-inl.h"  // gather32
+
+/// The velocities of one side of a vector of contacts (point_motion's Body).
+struct Body {
+  Lanes vx, vy, w;
+};
+
+/// One side's arrays at its grains, gathered.
+struct Gathered {
+  hn::Vec<hn::Rebind<std::int32_t, D>> g;
+  HWY_INLINE Lanes at(const double* a) const { return Lanes(gather32(D(), a, g)); }
+};
+/// One side's arrays at grains within one vector from the first, @p g0 (the owners of
+/// consecutive pairs: few distinct rows): a contiguous load permuted.
+struct Permuted {
+  decltype(hn::IndicesFromVec(D(), hn::Zero(hn::RebindToSigned<D>()))) rel;
+  const std::int32_t g0;
+  HWY_INLINE Lanes at(const double* a) const {
+    return Lanes(hn::TableLookupLanes(hn::LoadU(D(), a + g0), rel));
+  }
+};
+
+/// PairInputs::of() on the pairs @p vk (owners by @p si, partners by @p sj; minimum-image
+/// separations @p dx, @p dy) into lanes [l, l + lanes) of @p b, with their springs from
+/// @p sxa, @p sya; their overlap fractions delta / (2 min(r_i, r_j)) raise @p max_ov lane by
+/// lane (divided only where the pre-test of the scalar loop, raise_max_overlap, passes).
+template <class Owner>
+HWY_INLINE void pair_kinematics(const PairInputs& in, const Owner& si, const Gathered& sj,
+                                hn::Vec<hn::RebindToSigned<D>> vk, Lanes dx, Lanes dy,
+                                const double* sxa, const double* sya, ContactBatch& b,
+                                std::size_t l, hn::Vec<D>& max_ov) {
+  const D d;
+  const Lanes h(in.h), dt(in.dt), one(1.0);
+  const Lanes ri = si.at(in.r), rj = sj.at(in.r);
+  const Lanes rs = ri + rj;
+  Lanes nx, ny, delta, reff, meff;
+  HWY_NAMESPACE::pair_normal(dx, dy, rs, nx, ny, delta);
+  if (in.pair_consts) {
+    reff = Lanes(hn::GatherIndex(d, in.reff, vk));
+    meff = Lanes(hn::GatherIndex(d, in.meff, vk));
+  } else {
+    reff = ri * rj / rs;
+    meff = one / (si.at(in.inv_m) + sj.at(in.inv_m));
+  }
+  const Body hi{si.at(in.vx), si.at(in.vy), si.at(in.w)};
+  const Body hj{sj.at(in.vx), sj.at(in.vy), sj.at(in.w)};
+  const Body pi{hi.vx + h * si.at(in.ax), hi.vy + h * si.at(in.ay), hi.w + h * si.at(in.al)};
+  const Body pj{hj.vx + h * sj.at(in.ax), hj.vy + h * sj.at(in.ay), hj.w + h * sj.at(in.al)};
+  Lanes vn, vtx, vty, dsx, dsy;
+  HWY_NAMESPACE::point_motion(nx, ny, ri, rj, pi, pj, hi, hj, dt, vn, vtx, vty, dsx, dsy);
+  store(b.nx + l, nx);
+  store(b.ny + l, ny);
+  store(b.delta + l, delta);
+  store(b.r_eff + l, reff);
+  store(b.m_eff + l, meff);
+  store(b.vn + l, vn);
+  store(b.vtx + l, vtx);
+  store(b.vty + l, vty);
+  store(b.dsx + l, dsx);
+  store(b.dsy + l, dsy);
+  hn::Store(hn::GatherIndex(d, sxa, vk), d, b.sx + l);
+  hn::Store(hn::GatherIndex(d, sya, vk), d, b.sy + l);
+  const hn::Vec<D> dmin = hn::Mul(hn::Set(d, 2.0), hn::Min(ri.v, rj.v));
+  const auto raise = hn::Gt(delta.v, hn::Mul(hn::Mul(max_ov, dmin), hn::Set(d, 1.0 - 1e-12)));
+  if (!hn::AllFalse(d, raise)) {
+    const hn::Vec<D> ov = hn::Div(delta.v, dmin);
+    max_ov = hn::IfThenElse(hn::And(raise, hn::Gt(ov, max_ov)), ov, max_ov);
+  }
+}
 
 }  // namespace
+
+std::size_t KumarLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n);
+
+std::size_t KumarPairLanes(const PairInputs& in, const LawCoefficients& c, double mu,
+                           const std::int64_t* kb, const double* dxa, const double* dya,
+                           std::size_t nb, const double* sxa, const double* sya,
+                           ContactBatch& b, double& max_ov) {
+  const D d;
+  hn::Vec<D> best = hn::Set(d, max_ov);
+  const hn::RebindToSigned<D> di;
+  const hn::Rebind<std::int32_t, D> d32;
+  const int lanes = static_cast<int>(hn::Lanes(D()));
+  alignas(64) std::int32_t gi[8], gj[8];
+  alignas(64) std::int64_t kk[8];
+  alignas(64) double sep[2][8];
+  for (std::size_t l = 0; l < nb; l += static_cast<std::size_t>(lanes)) {
+    Lanes dx, dy;
+    if (l + static_cast<std::size_t>(lanes) <= nb) {
+      dx = Lanes(hn::LoadU(d, dxa + l));
+      dy = Lanes(hn::LoadU(d, dya + l));
+    }
+    for (int a = 0; a < lanes; ++a) {  // lanes past the batch repeat its last pair
+      const std::size_t m = std::min(l + static_cast<std::size_t>(a), nb - 1);
+      const std::int64_t k = kb[m];
+      kk[a] = k;
+      gi[a] = in.owner[k];
+      gj[a] = in.partner[k];
+      sep[0][a] = dxa[m];
+      sep[1][a] = dya[m];
+    }
+    if (l + static_cast<std::size_t>(lanes) > nb) {
+      dx = load(sep[0]);
+      dy = load(sep[1]);
+    }
+    const auto vi = hn::Load(d32, gi);
+    const auto vk = hn::Load(di, kk);
+    const Gathered sj{hn::Load(d32, gj)};
+    // the owners increase with the pair (the list is by rows)
+    if (gi[lanes - 1] - gi[0] < lanes && gi[0] + lanes <= in.n_rows) {
+      const auto rel = hn::PromoteTo(di, hn::Sub(vi, hn::Set(d32, gi[0])));
+      const Permuted si{hn::IndicesFromVec(D(), rel), gi[0]};
+      pair_kinematics(in, si, sj, vk, dx, dy, sxa, sya, b, l, best);
+    } else {
+      pair_kinematics(in, Gathered{vi}, sj, vk, dx, dy, sxa, sya, b, l, best);
+    }
+  }
+  // the law on the whole batch: the vectors' long chains of square roots and divisions
+  // overlap (one vector of pairs through kinematics and law at once did not gain)
+  KumarLanes(c, mu, b, nb);
+  max_ov = hn::GetLane(hn::MaxOfLanes(d, best));
+  return nb;
+}
 
 std::size_t KumarLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {
   const Lanes vmu(mu);
@@ -96,6 +218,11 @@ std::size_t KumarLaneCount() { return hn::Lanes(D()); }
 #else
 // no lane type here: contact_force() lane by lane does the batch
 std::size_t KumarLanes(const LawCoefficients&, double, ContactBatch&, std::size_t) { return 0; }
+std::size_t KumarPairLanes(const PairInputs&, const LawCoefficients&, double,
+                           const std::int64_t*, const double*, const double*, std::size_t,
+                           const double*, const double*, ContactBatch&, double&) {
+  return 0;
+}
 std::size_t KumarLaneCount() { return 0; }
 #endif
 
@@ -108,10 +235,19 @@ namespace grainlift::dem {
 
 HWY_EXPORT(KumarLanes);
 HWY_EXPORT(KumarLaneCount);
+HWY_EXPORT(KumarPairLanes);
 
 bool contact_force_batch_vectorized(const LawCoefficients& c) {
   return c.law == ContactLaw::kumar2019 && detail::vector_enabled() &&
          HWY_DYNAMIC_DISPATCH(KumarLaneCount)() > 0;
+}
+
+std::size_t kumar_pair_lanes(const PairInputs& in, const LawCoefficients& law, double mu,
+                             const std::int64_t* kb, const double* dx, const double* dy,
+                             std::size_t nb, const double* sx, const double* sy,
+                             ContactBatch& out, double& max_ov) {
+  if (law.law != ContactLaw::kumar2019 || !detail::vector_enabled()) return 0;
+  return HWY_DYNAMIC_DISPATCH(KumarPairLanes)(in, law, mu, kb, dx, dy, nb, sx, sy, out, max_ov);
 }
 
 void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {

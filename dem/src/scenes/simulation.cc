@@ -238,8 +238,9 @@ RunLimits run_limits(const DemConfig& c, const DemSystem& s) {
 
 /// The intruder's sample at step @p k, after the checks that end a run that has gone wrong: a
 /// non-finite state, energy growth, an overlap above the limit (RunFailure naming the grain).
+/// The overlap raises @p largest_overlap.
 IntruderSample checked_sample(DemSystem& s, const DemConfig& c, long long k,
-                              const RunLimits& limits) {
+                              const RunLimits& limits, double& largest_overlap) {
   const double t = s.time();
   IntruderSample smp;
   smp.time = t;
@@ -266,6 +267,7 @@ IntruderSample checked_sample(DemSystem& s, const DemConfig& c, long long k,
                      str(g) + describe_grain(s, g) + "; reduce dt (" + str(c.dt) + " s)");
   }
   const double ov = s.take_max_overlap_fraction();
+  largest_overlap = std::max(largest_overlap, ov);
   if (ov > c.max_overlap_fraction) {
     const DemSystem::WorstOverlap w = s.worst_overlap();
     const std::string partner = w.j < 0 ? std::string("the intruder")
@@ -423,7 +425,7 @@ DemOutput run_simulation(const DemConfig& c, const ProgressCallback& progress,
     if (k % c.sample_every == 0) {
       if (lid) out.lid.push_back({t, lid->state().y, lid->state().pressure});
       if (far_field) out.far_field.push_back(far_field_stress(s, c, region));
-      const IntruderSample smp = checked_sample(s, c, k, limits);
+      const IntruderSample smp = checked_sample(s, c, k, limits, out.run_max_overlap);
       const std::size_t index = out.samples.size();
       out.samples.push_back(smp);
       if (out.steady_start_index == static_cast<std::size_t>(-1) &&

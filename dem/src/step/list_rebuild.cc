@@ -65,9 +65,8 @@ void DemSystem::build_lists() {
     const int lo = c * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
     const auto np = static_cast<std::size_t>(nl_.first[hi] - nl_.first[lo]);
     // room for every pair of the chunk (the screening loop writes before it counts)
-    touch_[c].k.resize(np + 1);
-    touch_prev_[c].k.resize(np + 1);
-    touch_[c].n = touch_prev_[c].n = 0;
+    touch_[c].size_for(np);
+    touch_prev_[c].size_for(np);
   }
   full_history_check_ = true;  // pair indices changed; histories were carried over
   {

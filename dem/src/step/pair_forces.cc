@@ -7,49 +7,12 @@
 
 #include "grainlift/dem/contact/contact_law_batch.h"
 #include "grainlift/dem/system/dem_system.h"
+#include "step/pair_inputs.h"
 #include "step/step_kernels.h"
 
 namespace grainlift::dem {
 
 namespace {
-/// The arrays the kinematics of a listed pair reads (local copies: the compiler can keep them
-/// in registers, no aliasing with the arrays written).
-struct PairInputs {
-  PeriodicBox box;
-  const double *x, *y, *r, *vx, *vy, *w, *ax, *ay, *al, *inv_m, *reff, *meff;
-  const int *owner, *partner;
-  bool pair_consts;  ///< r_eff and m_eff from the list build (no radius changed since)
-  double h, dt;      ///< half the spring step; the spring step
-
-  /// Normal, overlap, r_eff, m_eff and the contact-point motion of pair k (predicted
-  /// velocities at t + dt for the force, half-step velocities for the spring).
-  ContactKinematics of(std::int64_t k) const {
-    const int i = owner[k], j = partner[k];
-    const double ri = r[i], rj = r[j];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    box.min_image(dx, dy);
-    const double rs = ri + rj;
-    const double dist = std::sqrt(dx * dx + dy * dy);
-    const double inv_dist = 1.0 / dist;
-    ContactKinematics kin;
-    kin.nx = dx * inv_dist;
-    kin.ny = dy * inv_dist;
-    kin.delta = rs - dist;
-    if (pair_consts) {
-      kin.r_eff = reff[k];
-      kin.m_eff = meff[k];
-    } else {
-      kin.r_eff = ri * rj / rs;
-      kin.m_eff = 1.0 / (inv_m[i] + inv_m[j]);
-    }
-    contact_point_motion(kin.nx, kin.ny, ri, rj,
-                         {vx[i] + h * ax[i], vy[i] + h * ay[i], w[i] + h * al[i]},
-                         {vx[j] + h * ax[j], vy[j] + h * ay[j], w[j] + h * al[j]},
-                         {vx[i], vy[i], w[i]}, {vx[j], vy[j], w[j]}, dt, kin);
-    return kin;
-  }
-};
-
 /// The stored forces of the listed pairs (null: not stored).
 struct PairForces {
   double* fx = nullptr;
@@ -194,7 +157,8 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   // a relaxed bed are apart); no stores but the list of touching pairs.
   touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r,
                                       radii_scaled_ ? nullptr : pair_rs2_.data(), n_total_,
-                                      k0, k1, touch_list.k.data());
+                                      k0, k1, touch_list.k.data(), touch_list.dx.data(),
+                                      touch_list.dy.data());
   const std::int64_t* touching = touch_list.k.data();
   const std::size_t n_touching = touch_list.n;
   forget_apart_pairs(touching, n_touching, before_list.k.data(), before_list.n, k0, k1,
@@ -209,7 +173,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   const PairInputs in{opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), p_.vx.data(), p_.vy.data(),
                         p_.w.data(), p_.ax.data(), p_.ay.data(), p_.alpha.data(), p_.inv_m.data(),
                         pair_reff_.data(), pair_meff_.data(), nl_.owner.data(), nl_.partner.data(),
-                        !radii_scaled_, 0.5 * spring_dt, spring_dt};
+                        !radii_scaled_, 0.5 * spring_dt, spring_dt, n_total_};
   // the batch in structure-of-arrays form (contact_law_batch.h); value-initialised: lanes
   // past a short batch hold finite numbers
   ContactBatch cb{};
@@ -223,8 +187,15 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   for (std::size_t b0 = 0; b0 < nt; b0 += kBatch) {
     const std::size_t nb = std::min(kBatch, nt - b0);
     const std::int64_t* kb = touching + b0;
-    fill_batch(in, law, normal_only, kb, nb, sx, sy, cb);
-    if (!normal_only) contact_force_batch(law, mu, cb, nb);
+    // the kinematics and the law a vector of pairs at a time where a vector loop does both
+    // (which also raises max_ov)
+    const bool lanes = !normal_only && kumar_pair_lanes(in, law, mu, kb, touch_list.dx.data() + b0,
+                                                        touch_list.dy.data() + b0, nb, sx, sy,
+                                                        cb, max_ov) > 0;
+    if (!lanes) {
+      fill_batch(in, law, normal_only, kb, nb, sx, sy, cb);
+      if (!normal_only) contact_force_batch(law, mu, cb, nb);
+    }
     for (std::size_t b = 0; b < nb; ++b) {
       const std::int64_t k = kb[b];
       const int i = owner[k], j = partner[k];
@@ -244,7 +215,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
       }
       add_to_grain<true>(i, si, fxb, fyb, qk, sfx, sfy, sq, touched);
       if (j < ng) add_to_grain<false>(j, sj, fxb, fyb, qk, sfx, sfy, sq, touched);
-      raise_max_overlap(cb.delta[b], r[i], r[j], max_ov);
+      if (!lanes) raise_max_overlap(cb.delta[b], r[i], r[j], max_ov);
     }
   }
 }

@@ -14,11 +14,12 @@ namespace grainlift::dem::detail {
 /// so no branch). The minimum image subtracts l, -l or +0.0 (d - 0.0 is d, d - (-l) is d + l):
 /// the bits of PeriodicBox::min_image. One copy per periodicity (no image code along a wall
 /// direction). kRs2: (r_i + r_j)^2 read from rs2[k], which has the bits computed here from r.
+/// The separations (dx, dy) of the touching pairs go to out_dx, out_dy in the same order.
 template <bool kPx, bool kPy, bool kRs2>
 inline std::size_t screen_scalar(const PeriodicBox& box, const int* owner, const int* partner,
                                  const double* x, const double* y, const double* r,
                                  const double* rs2, std::int64_t k0, std::int64_t k1,
-                                 std::int64_t* out) {
+                                 std::int64_t* out, double* out_dx, double* out_dy) {
   const double lx = box.lx(), ly = box.ly();
   const double hx = 0.5 * lx, hy = 0.5 * ly;
   std::size_t n = 0;
@@ -36,6 +37,8 @@ inline std::size_t screen_scalar(const PeriodicBox& box, const int* owner, const
       reach = rs * rs;
     }
     out[n] = k;
+    out_dx[n] = dx;
+    out_dy[n] = dy;
     n += dx * dx + dy * dy < reach ? 1 : 0;
   }
   return n;

@@ -35,37 +35,13 @@ using V = hn::Vec<D>;
 using DI = hn::RebindToSigned<D>;    // 64-bit integers: pair indices
 using DU = hn::RebindToUnsigned<D>;  // the bits of a double
 
+#include "step/lanes-inl.h"  // gather32
+
 /// v - (l where above, -l where below, +0.0 elsewhere): PeriodicBox::wrap and min_image lane
 /// by lane, bit for bit (x - (-l) is x + l, and x - (+0.0) is x, -0.0 included).
 template <class M>
 HWY_INLINE V shift(D d, V v, M above, M below, V l, V neg_l) {
   return hn::Sub(v, hn::IfThenElse(above, l, hn::IfThenElse(below, neg_l, hn::Zero(d))));
-}
-
-/// x[index] lane by lane for the pair list's 32-bit indices (all >= 0). Two things of
-/// Highway 1.0's GatherIndex cost the pair screen of a dilute bed 18% against the hand-written
-/// AVX-512 loop it replaces: it takes only 64-bit indices (widened first), and on x86 it leaves
-/// the register the gather merges into to the compiler, which may pick one that still waits
-/// for the previous vector's arithmetic, so that successive gathers wait for each other. On x86
-/// therefore the gather of 32-bit indices, masked by index >= 0 (every lane: a mask the
-/// compiler cannot fold away) into a zeroed register, which depends on nothing; elsewhere the
-/// widened indices and Highway's gather.
-HWY_INLINE V gather32(D d, const double* base, hn::Vec<hn::Rebind<std::int32_t, D>> index) {
-  const hn::Rebind<std::int32_t, D> d32;
-#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
-  (void)d;
-  const auto valid = hn::Gt(index, hn::Set(d32, -1));
-  return V{_mm512_mask_i32gather_pd(_mm512_setzero_pd(), valid.raw, index.raw, base, 8)};
-#elif HWY_TARGET == HWY_AVX2
-  (void)d32;
-  const DI di;
-  const auto valid = hn::VecFromMask(di, hn::Gt(hn::PromoteTo(di, index), hn::Set(di, -1)));
-  return V{_mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index.raw,
-                                    hn::BitCast(d, valid).raw, 8)};
-#else
-  (void)d32;
-  return hn::GatherIndex(d, base, hn::PromoteTo(DI(), index));
-#endif
 }
 
 /// For each mask of up to eight lanes (bit j: lane j), its set lanes in increasing order, then
@@ -90,12 +66,14 @@ constexpr SetLanes kSetLanes = make_set_lanes();
 /// screen_pairs() with rs2 on this target: pairs [k0, k1) a vector at a time, with the
 /// operations of screen_scalar() (pair_screen.h): x and y of the partners gathered, those of
 /// the owners (sorted: usually fewer distinct rows than lanes) loaded once and permuted;
-/// (r_i + r_j)^2 from rs2. The indices of the touching pairs are compressed into out. The last
-/// pairs (fewer than a vector) by screen_scalar(). Returns the number of touching pairs.
+/// (r_i + r_j)^2 from rs2. The indices of the touching pairs are compressed into out, their
+/// separations into out_dx, out_dy. The last pairs (fewer than a vector) by screen_scalar().
+/// Returns the number of touching pairs.
 template <bool kPx, bool kPy>
 std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* partner,
                          const double* x, const double* y, const double* rs2, int n_total,
-                         std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+                         std::int64_t k0, std::int64_t k1, std::int64_t* out, double* out_dx,
+                         double* out_dy) {
   const D d;
   const DI di;
   const hn::Rebind<std::int32_t, D> d32;
@@ -138,11 +116,14 @@ std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* pa
       const auto set = hn::PromoteTo(hn::RebindToUnsigned<DI>(),
                                      hn::PromoteTo(du32, hn::LoadU(du8, kSetLanes.lane[bits[0]])));
       hn::StoreU(hn::Add(hn::Set(di, k), hn::BitCast(di, set)), di, out + count);
+      const auto lanes_set = hn::IndicesFromVec(d, hn::BitCast(di, set));
+      hn::StoreU(hn::TableLookupLanes(dx, lanes_set), d, out_dx + count);
+      hn::StoreU(hn::TableLookupLanes(dy, lanes_set), d, out_dy + count);
       count += hn::CountTrue(d, touch);
     }
   }
   return count + screen_scalar<kPx, kPy, true>(box, owner, partner, x, y, nullptr, rs2, k, k1,
-                                               out + count);
+                                               out + count, out_dx + count, out_dy + count);
 }
 
 /// Stores the lanes of @p v whose bits differ from @p old at @p p (a lane that keeps its
@@ -305,15 +286,15 @@ int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
 
 std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
                         const double* x, const double* y, const double* rs2, int n_total,
-                        std::int64_t k0, std::int64_t k1, std::int64_t* out) {
+                        std::int64_t k0, std::int64_t k1, std::int64_t* out, double* odx,
+                        double* ody) {
+  auto run = [&](auto screen) {
+    return screen(box, owner, partner, x, y, rs2, n_total, k0, k1, out, odx, ody);
+  };
   if (box.periodic_x) {
-    return box.periodic_y
-               ? screen_lanes<true, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
-               : screen_lanes<true, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
+    return box.periodic_y ? run(screen_lanes<true, true>) : run(screen_lanes<true, false>);
   }
-  return box.periodic_y
-             ? screen_lanes<false, true>(box, owner, partner, x, y, rs2, n_total, k0, k1, out)
-             : screen_lanes<false, false>(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
+  return box.periodic_y ? run(screen_lanes<false, true>) : run(screen_lanes<false, false>);
 }
 
 int KickLanes(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
@@ -329,16 +310,17 @@ int KickLanes(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {
 // no lanes of doubles here: the scalar code does everything (never chosen: simd_target.cc)
 std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* partner,
                         const double* x, const double* y, const double* rs2, int,
-                        std::int64_t k0, std::int64_t k1, std::int64_t* out) {
-  return box.periodic_x
-             ? (box.periodic_y ? screen_scalar<true, true, true>(box, owner, partner, x, y,
-                                                                 nullptr, rs2, k0, k1, out)
-                               : screen_scalar<true, false, true>(box, owner, partner, x, y,
-                                                                  nullptr, rs2, k0, k1, out))
-             : (box.periodic_y ? screen_scalar<false, true, true>(box, owner, partner, x, y,
-                                                                  nullptr, rs2, k0, k1, out)
-                               : screen_scalar<false, false, true>(box, owner, partner, x, y,
-                                                                   nullptr, rs2, k0, k1, out));
+                        std::int64_t k0, std::int64_t k1, std::int64_t* out, double* odx,
+                        double* ody) {
+  auto run = [&](auto screen) {
+    return screen(box, owner, partner, x, y, nullptr, rs2, k0, k1, out, odx, ody);
+  };
+  if (box.periodic_x) {
+    return box.periodic_y ? run(screen_scalar<true, true, true>)
+                          : run(screen_scalar<true, false, true>);
+  }
+  return box.periodic_y ? run(screen_scalar<false, true, true>)
+                        : run(screen_scalar<false, false, true>);
 }
 int KickLanes(const PlainKick&, bool, int i, int, double&) { return i; }
 #endif
@@ -358,17 +340,22 @@ HWY_EXPORT(KernelTarget);
 
 std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
                          const double* x, const double* y, const double* r, const double* rs2,
-                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out) {
-  if (rs2 != nullptr && vector_enabled())
-    return HWY_DYNAMIC_DISPATCH(ScreenLanes)(box, owner, partner, x, y, rs2, n_total, k0, k1, out);
-  if (box.periodic_x) {
-    return box.periodic_y
-               ? screen_scalar<true, true, false>(box, owner, partner, x, y, r, rs2, k0, k1, out)
-               : screen_scalar<true, false, false>(box, owner, partner, x, y, r, rs2, k0, k1, out);
+                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out,
+                         double* odx, double* ody) {
+  if (rs2 != nullptr && vector_enabled()) {
+    return HWY_DYNAMIC_DISPATCH(ScreenLanes)(box, owner, partner, x, y, rs2, n_total, k0, k1, out,
+                                             odx, ody);
   }
-  return box.periodic_y
-             ? screen_scalar<false, true, false>(box, owner, partner, x, y, r, rs2, k0, k1, out)
-             : screen_scalar<false, false, false>(box, owner, partner, x, y, r, rs2, k0, k1, out);
+  // the scalar code, (r_i + r_j)^2 from r
+  auto run = [&](auto screen) {
+    return screen(box, owner, partner, x, y, r, rs2, k0, k1, out, odx, ody);
+  };
+  if (box.periodic_x) {
+    return box.periodic_y ? run(screen_scalar<true, true, false>)
+                          : run(screen_scalar<true, false, false>);
+  }
+  return box.periodic_y ? run(screen_scalar<false, true, false>)
+                        : run(screen_scalar<false, false, false>);
 }
 
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {

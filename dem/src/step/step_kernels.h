@@ -16,10 +16,12 @@ namespace grainlift::dem::detail {
 /// |x_i - x_j| < r_i + r_j (minimum image), to out in increasing order; return their number.
 /// Branch-free: out needs room for k1 - k0 + 1 entries (it writes before it counts). With
 /// rs2 (per pair (r_i + r_j)^2, computed as here) and a vector target, a vector of pairs at a
-/// time; n_total: particles in x and y.
+/// time; n_total: particles in x and y. The minimum-image separations x_i - x_j of the
+/// touching pairs go to out_dx, out_dy (as much room as out) in the same order.
 std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* partner,
                          const double* x, const double* y, const double* r, const double* rs2,
-                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out);
+                         int n_total, std::int64_t k0, std::int64_t k1, std::int64_t* out,
+                         double* out_dx, double* out_dy);
 
 /// The arrays and constants of the kick (DemSystem::finish_impl).
 struct PlainKick {

@@ -150,10 +150,8 @@ void DemSystem::plan_split() {
   split_touch_prev_.resize(2 * nt);
   auto size_lists = [&](std::size_t l, int row_lo, int row_hi) {
     const auto np = static_cast<std::size_t>(first[row_hi] - first[row_lo]);
-    for (TouchList* list : {&split_touch_[l], &split_touch_prev_[l]}) {
-      list->k.resize(np + 1);
-      list->n = 0;
-    }
+    split_touch_[l].size_for(np);
+    split_touch_prev_[l].size_for(np);
   };
   for (std::size_t t = 0; t < nt; ++t) {
     size_lists(2 * t, split_cross_[t], split_[t + 1]);

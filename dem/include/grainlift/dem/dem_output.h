@@ -81,6 +81,7 @@ struct DemOutput {
   /// measured (a run resumed from a checkpoint)
   BedFingerprint bed;
   double bed_max_overlap = 0;  ///< largest overlap / smaller diameter of the prepared bed at rest
+  double run_max_overlap = 0;  ///< the same, the largest the pair forces met during the run
   bool interrupted = false;    ///< ended by RunControl::interrupted (a checkpoint was taken)
   long long resumed_from_step = -1;  ///< the step of the checkpoint it went on from (-1: none) ///<
                                      ///< a RunMonitor ended the run before the travel

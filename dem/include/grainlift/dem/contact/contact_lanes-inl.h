@@ -71,3 +71,33 @@ inline void contact_lanes(const T& nx, const T& ny, const T& delta, const T& vn,
     sy = select(spring, -(fty + bt * vty) / at, select(slipping, zero, sy));
   }
 }
+
+/// The unit normal (nx, ny) from j to i and the overlap of a pair whose centres are (dx, dy)
+/// apart (the minimum image) with radii summing to @p rs, for any lane type T.
+template <class T>
+inline void pair_normal(const T& dx, const T& dy, const T& rs, T& nx, T& ny, T& delta) {
+  using lane::sqrt_of;
+  const T dist = sqrt_of(dx * dx + dy * dy);
+  const T inv_dist = T(1.0) / dist;
+  nx = dx * inv_dist;
+  ny = dy * inv_dist;
+  delta = rs - dist;
+}
+
+/// contact_point_motion() (contact_law.h) for any lane type T: @p Body holds T members vx, vy,
+/// w; @p p* are the predicted velocities at t + dt, @p h* the half-step ones.
+template <class T, class Body>
+inline void point_motion(const T& nx, const T& ny, const T& ri, const T& rj, const Body& pi,
+                         const Body& pj, const Body& hi, const Body& hj, const T& dt, T& vn,
+                         T& vtx, T& vty, T& dsx, T& dsy) {
+  const T tx = -ny, ty = nx;
+  const T wp = pi.w * ri + pj.w * rj;
+  const T vrx = pi.vx - pj.vx - wp * tx;
+  const T vry = pi.vy - pj.vy - wp * ty;
+  vn = vrx * nx + vry * ny;
+  vtx = vrx - vn * nx;
+  vty = vry - vn * ny;
+  const T wh = hi.w * ri + hj.w * rj;
+  dsx = dt * (hi.vx - hj.vx - wh * tx);
+  dsy = dt * (hi.vy - hj.vy - wh * ty);
+}

@@ -54,37 +54,6 @@ struct BodyVelocity {
   double vx = 0, vy = 0, w = 0;
 };
 
-/// @brief The motion of the contact point of bodies i and j (radii @p ri, @p rj, m; unit
-/// normal (nx, ny) from j to i, tangent t = (-ny, nx)), written once for pairs, walls and the
-/// intruder. From the predicted velocities at t+dt (@p pi, @p pj): the relative velocity
-/// v_r = v_i - v_j - (w_i r_i + w_j r_j) t split into vn = v_r.n and v_t = v_r - vn n; from
-/// the half-step velocities (@p hi, @p hj): the tangential displacement of the contact point
-/// over the step, ds = dt (v_i - v_j - (w_i r_i + w_j r_j) t) (m). Fills k.vn, k.vtx, k.vty,
-/// k.dsx, k.dsy.
-inline void contact_point_motion(double nx, double ny, double ri, double rj,
-                                 const BodyVelocity& pi, const BodyVelocity& pj,
-                                 const BodyVelocity& hi, const BodyVelocity& hj, double dt,
-                                 ContactKinematics& k) {
-  const double tx = -ny, ty = nx;
-  const double wp = pi.w * ri + pj.w * rj;
-  const double vrx = pi.vx - pj.vx - wp * tx;
-  const double vry = pi.vy - pj.vy - wp * ty;
-  k.vn = vrx * nx + vry * ny;
-  k.vtx = vrx - k.vn * nx;
-  k.vty = vry - k.vn * ny;
-  const double wh = hi.w * ri + hj.w * rj;
-  k.dsx = dt * (hi.vx - hj.vx - wh * tx);
-  k.dsy = dt * (hi.vy - hj.vy - wh * ty);
-}
-
-/// Result of one contact evaluation (force on i; the force on j is its opposite).
-struct ContactForce {
-  double fx = 0, fy = 0;  ///< N (per unit length in the 2D reading), total force on i
-  double fn = 0;          ///< N, normal force on i along n (positive repulsive)
-  double ftx = 0, fty = 0;  ///< N, tangential force on i
-  bool slipping = false;  ///< Coulomb limit reached: |F_t| = mu |F_n|
-};
-
 /// The lane operations the law needs, for one contact held in doubles. A vector of contacts
 /// (contact_law_batch.cc) provides the same names for its own lane type.
 namespace lane {
@@ -99,6 +68,29 @@ inline double select(bool m, double a, double b) { return m ? a : b; }
 // kumar_prefactors() and contact_lanes(), the law for any lane type: in this namespace for a
 // double, and again in each SIMD target's namespace for its vector lanes (contact_law_batch.cc)
 #include "grainlift/dem/contact/contact_lanes-inl.h"
+
+/// @brief The motion of the contact point of bodies i and j (radii @p ri, @p rj, m; unit
+/// normal (nx, ny) from j to i, tangent t = (-ny, nx)), written once for pairs, walls and the
+/// intruder. From the predicted velocities at t+dt (@p pi, @p pj): the relative velocity
+/// v_r = v_i - v_j - (w_i r_i + w_j r_j) t split into vn = v_r.n and v_t = v_r - vn n; from
+/// the half-step velocities (@p hi, @p hj): the tangential displacement of the contact point
+/// over the step, ds = dt (v_i - v_j - (w_i r_i + w_j r_j) t) (m). Fills k.vn, k.vtx, k.vty,
+/// k.dsx, k.dsy.
+inline void contact_point_motion(double nx, double ny, double ri, double rj,
+                                 const BodyVelocity& pi, const BodyVelocity& pj,
+                                 const BodyVelocity& hi, const BodyVelocity& hj, double dt,
+                                 ContactKinematics& k) {
+  point_motion(nx, ny, ri, rj, pi, pj, hi, hj, dt, k.vn, k.vtx, k.vty, k.dsx, k.dsy);
+}
+
+/// Result of one contact evaluation (force on i; the force on j is its opposite).
+struct ContactForce {
+  double fx = 0, fy = 0;  ///< N (per unit length in the 2D reading), total force on i
+  double fn = 0;          ///< N, normal force on i along n (positive repulsive)
+  double ftx = 0, fty = 0;  ///< N, tangential force on i
+  bool slipping = false;  ///< Coulomb limit reached: |F_t| = mu |F_n|
+};
+
 
 /// @brief Evaluate the contact force and advance the tangential spring (sx, sy) in place.
 ///

@@ -260,7 +260,15 @@ class DemSystem {
   /// Touching pairs of a range of rows: k[0, n) (k has room for every pair of the range + 1).
   struct TouchList {
     std::vector<std::int64_t> k;
+    std::vector<double> dx, dy;  ///< the minimum-image x_i - x_j of each (the screen's bits)
     std::size_t n = 0;
+    /// Room for @p np pairs (the screen writes before it counts), none listed.
+    void size_for(std::size_t np) {
+      k.resize(np + 1);
+      dx.resize(np + 1);
+      dy.resize(np + 1);
+      n = 0;
+    }
   };
   /// Pair forces of the rows of one chunk (one thread; pass 1: distance checks, pass 2:
   /// contact law), summed per grain in the pair loop.
