@@ -65,7 +65,7 @@ HWY_INLINE void store(double* p, Lanes a) { hn::Store(a.v, D(), p); }
 
 // the law itself, compiled here for this target's lanes
 #include "grainlift/dem/contact/contact_lanes-inl.h"
-#include "step/lanes-inl.h"  // gather32
+#include "step/lanes-inl.h"  // gather_at
 
 /// The velocities of one side of a vector of contacts (point_motion's Body).
 struct Body {
@@ -74,8 +74,8 @@ struct Body {
 
 /// One side's arrays at its grains, gathered.
 struct Gathered {
-  hn::Vec<hn::Rebind<std::int32_t, D>> g;
-  HWY_INLINE Lanes at(const double* a) const { return Lanes(gather32(D(), a, g)); }
+  const std::int32_t* g;
+  HWY_INLINE Lanes at(const double* a) const { return Lanes(gather_at(D(), a, g)); }
 };
 /// One side's arrays at grains within one vector from the first, @p g0 (the owners of
 /// consecutive pairs: few distinct rows): a contiguous load permuted.
@@ -87,13 +87,13 @@ struct Permuted {
   }
 };
 
-/// PairInputs::of() on the pairs @p vk (owners by @p si, partners by @p sj; minimum-image
+/// PairInputs::of() on the pairs @p kp (owners by @p si, partners by @p sj; minimum-image
 /// separations @p dx, @p dy) into lanes [l, l + lanes) of @p b, with their springs from
 /// @p sxa, @p sya; their overlap fractions delta / (2 min(r_i, r_j)) raise @p max_ov lane by
 /// lane (divided only where the pre-test of the scalar loop, raise_max_overlap, passes).
 template <class Owner>
 HWY_INLINE void pair_kinematics(const PairInputs& in, const Owner& si, const Gathered& sj,
-                                hn::Vec<hn::RebindToSigned<D>> vk, Lanes dx, Lanes dy,
+                                const std::int64_t* kp, Lanes dx, Lanes dy,
                                 const double* sxa, const double* sya, ContactBatch& b,
                                 std::size_t l, hn::Vec<D>& max_ov) {
   const D d;
@@ -103,8 +103,8 @@ HWY_INLINE void pair_kinematics(const PairInputs& in, const Owner& si, const Gat
   Lanes nx, ny, delta, reff, meff;
   HWY_NAMESPACE::pair_normal(dx, dy, rs, nx, ny, delta);
   if (in.pair_consts) {
-    reff = Lanes(hn::GatherIndex(d, in.reff, vk));
-    meff = Lanes(hn::GatherIndex(d, in.meff, vk));
+    reff = Lanes(gather_at(d, in.reff, kp));
+    meff = Lanes(gather_at(d, in.meff, kp));
   } else {
     reff = ri * rj / rs;
     meff = one / (si.at(in.inv_m) + sj.at(in.inv_m));
@@ -125,8 +125,8 @@ HWY_INLINE void pair_kinematics(const PairInputs& in, const Owner& si, const Gat
   store(b.vty + l, vty);
   store(b.dsx + l, dsx);
   store(b.dsy + l, dsy);
-  hn::Store(hn::GatherIndex(d, sxa, vk), d, b.sx + l);
-  hn::Store(hn::GatherIndex(d, sya, vk), d, b.sy + l);
+  hn::Store(gather_at(d, sxa, kp), d, b.sx + l);
+  hn::Store(gather_at(d, sya, kp), d, b.sy + l);
   const hn::Vec<D> dmin = hn::Mul(hn::Set(d, 2.0), hn::Min(ri.v, rj.v));
   const auto raise = hn::Gt(delta.v, hn::Mul(hn::Mul(max_ov, dmin), hn::Set(d, 1.0 - 1e-12)));
   if (!hn::AllFalse(d, raise)) {
@@ -171,15 +171,14 @@ std::size_t KumarPairLanes(const PairInputs& in, const LawCoefficients& c, doubl
       dy = load(sep[1]);
     }
     const auto vi = hn::Load(d32, gi);
-    const auto vk = hn::Load(di, kk);
-    const Gathered sj{hn::Load(d32, gj)};
+    const Gathered sj{gj};
     // the owners increase with the pair (the list is by rows)
     if (gi[lanes - 1] - gi[0] < lanes && gi[0] + lanes <= in.n_rows) {
       const auto rel = hn::PromoteTo(di, hn::Sub(vi, hn::Set(d32, gi[0])));
       const Permuted si{hn::IndicesFromVec(D(), rel), gi[0]};
-      pair_kinematics(in, si, sj, vk, dx, dy, sxa, sya, b, l, best);
+      pair_kinematics(in, si, sj, kk, dx, dy, sxa, sya, b, l, best);
     } else {
-      pair_kinematics(in, Gathered{vi}, sj, vk, dx, dy, sxa, sya, b, l, best);
+      pair_kinematics(in, Gathered{gi}, sj, kk, dx, dy, sxa, sya, b, l, best);
     }
   }
   // the law on the whole batch: the vectors' long chains of square roots and divisions

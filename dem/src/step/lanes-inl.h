@@ -1,32 +1,28 @@
 // The gather the step's Highway kernels share (step_kernels.cc, contact_law_batch.cc). No
 // include guard and no namespace of its own, on purpose: each of those files includes it inside
 // every SIMD target's namespace (Highway compiles them once per target), after defining
-// D = hn::CappedTag<double, 8> and the alias hn. Only operations exact or rounded once as in
-// IEEE arithmetic: every lane keeps the bits of the scalar code.
+// D = hn::CappedTag<double, 8> and the alias hn. Loads only: every lane keeps its bits.
 
-/// x[index] lane by lane for the pair list's 32-bit indices (all >= 0). Two things of
-/// Highway 1.0's GatherIndex cost the pair screen of a dilute bed 18% against the hand-written
-/// AVX-512 loop it replaces: it takes only 64-bit indices (widened first), and on x86 it leaves
-/// the register the gather merges into to the compiler, which may pick one that still waits
-/// for the previous vector's arithmetic, so that successive gathers wait for each other. On x86
-/// therefore the gather of 32-bit indices, masked by index >= 0 (every lane: a mask the
-/// compiler cannot fold away) into a zeroed register, which depends on nothing; elsewhere the
-/// widened indices and Highway's gather.
-HWY_INLINE hn::Vec<D> gather32(D d, const double* base,
-                               hn::Vec<hn::Rebind<std::int32_t, D>> index) {
-  const hn::Rebind<std::int32_t, D> d32;
-#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
+/// base[idx[lane]] lane by lane, for indices in memory (the pair list's 32-bit grains, or
+/// 64-bit pair indices). On x86 one scalar load per lane, assembled into the vector: on the
+/// reference machine (AMD EPYC) the CPU's gather instructions took longer than that (the whole
+/// reduced production run of the AVX2 target 25.3 s with them, 21.8 s without; AVX-512 18.7 s
+/// and 16.9 s; same bits). Elsewhere Highway's gather of the indices widened to 64 bits.
+template <class I>
+HWY_INLINE hn::Vec<D> gather_at(D d, const double* base, const I* idx) {
+#if HWY_TARGET == HWY_AVX2
   (void)d;
-  const auto valid = hn::Gt(index, hn::Set(d32, -1));
-  return hn::Vec<D>{_mm512_mask_i32gather_pd(_mm512_setzero_pd(), valid.raw, index.raw, base, 8)};
-#elif HWY_TARGET == HWY_AVX2
-  (void)d32;
-  const hn::RebindToSigned<D> di;
-  const auto valid = hn::VecFromMask(di, hn::Gt(hn::PromoteTo(di, index), hn::Set(di, -1)));
-  return hn::Vec<D>{_mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index.raw,
-                                             hn::BitCast(d, valid).raw, 8)};
+  return hn::Vec<D>{_mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]])};
+#elif HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
+  (void)d;
+  return hn::Vec<D>{_mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]],
+                                  base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]])};
 #else
-  (void)d32;
-  return hn::GatherIndex(d, base, hn::PromoteTo(hn::RebindToSigned<D>(), index));
+  const hn::RebindToSigned<D> di;
+  if constexpr (sizeof(I) == 4) {
+    return hn::GatherIndex(d, base, hn::PromoteTo(di, hn::LoadU(hn::Rebind<I, D>(), idx)));
+  } else {
+    return hn::GatherIndex(d, base, hn::LoadU(di, idx));
+  }
 #endif
 }

@@ -35,7 +35,7 @@ using V = hn::Vec<D>;
 using DI = hn::RebindToSigned<D>;    // 64-bit integers: pair indices
 using DU = hn::RebindToUnsigned<D>;  // the bits of a double
 
-#include "step/lanes-inl.h"  // gather32
+#include "step/lanes-inl.h"  // gather_at
 
 /// v - (l where above, -l where below, +0.0 elsewhere): PeriodicBox::wrap and min_image lane
 /// by lane, bit for bit (x - (-l) is x + l, and x - (+0.0) is x, -0.0 included).
@@ -88,10 +88,7 @@ std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* pa
   std::size_t count = 0;
   std::int64_t k = k0;
   for (; k + lanes <= k1; k += lanes) {
-    // both index vectors first: a gather is a long run of loads (microcode on some CPUs), and
-    // the partners' indices should not wait behind the owners' gathers
     const auto vi = hn::LoadU(d32, owner + k);
-    const auto vj = hn::LoadU(d32, partner + k);
     const int i0 = owner[k];
     V xi, yi;
     if (owner[k + lanes - 1] - i0 < lanes && i0 + lanes <= n_total) {
@@ -99,11 +96,11 @@ std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* pa
       xi = hn::TableLookupLanes(hn::LoadU(d, x + i0), rel);
       yi = hn::TableLookupLanes(hn::LoadU(d, y + i0), rel);
     } else {
-      xi = gather32(d, x, vi);
-      yi = gather32(d, y, vi);
+      xi = gather_at(d, x, owner + k);
+      yi = gather_at(d, y, owner + k);
     }
-    V dx = hn::Sub(xi, gather32(d, x, vj));
-    V dy = hn::Sub(yi, gather32(d, y, vj));
+    V dx = hn::Sub(xi, gather_at(d, x, partner + k));
+    V dy = hn::Sub(yi, gather_at(d, y, partner + k));
     if (kPx) dx = shift(d, dx, hn::Gt(dx, hx), hn::Lt(dx, nhx), lx, nlx);
     if (kPy) dy = shift(d, dy, hn::Gt(dy, hy), hn::Lt(dy, nhy), ly, nly);
     const V d2 = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
