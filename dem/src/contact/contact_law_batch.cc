@@ -153,20 +153,24 @@ std::size_t KumarPairLanes(const PairInputs& in, const LawCoefficients& c, doubl
   alignas(64) double sep[2][8];
   for (std::size_t l = 0; l < nb; l += static_cast<std::size_t>(lanes)) {
     Lanes dx, dy;
+    const std::int64_t* kp = kb + l;
     if (l + static_cast<std::size_t>(lanes) <= nb) {
       dx = Lanes(hn::LoadU(d, dxa + l));
       dy = Lanes(hn::LoadU(d, dya + l));
-    }
-    for (int a = 0; a < lanes; ++a) {  // lanes past the batch repeat its last pair
-      const std::size_t m = std::min(l + static_cast<std::size_t>(a), nb - 1);
-      const std::int64_t k = kb[m];
-      kk[a] = k;
-      gi[a] = in.owner[k];
-      gj[a] = in.partner[k];
-      sep[0][a] = dxa[m];
-      sep[1][a] = dya[m];
-    }
-    if (l + static_cast<std::size_t>(lanes) > nb) {
+      for (int a = 0; a < lanes; ++a) {
+        gi[a] = in.owner[kp[a]];
+        gj[a] = in.partner[kp[a]];
+      }
+    } else {
+      for (int a = 0; a < lanes; ++a) {  // lanes past the batch repeat its last pair
+        const std::size_t m = std::min(l + static_cast<std::size_t>(a), nb - 1);
+        kk[a] = kb[m];
+        gi[a] = in.owner[kk[a]];
+        gj[a] = in.partner[kk[a]];
+        sep[0][a] = dxa[m];
+        sep[1][a] = dya[m];
+      }
+      kp = kk;
       dx = load(sep[0]);
       dy = load(sep[1]);
     }
@@ -176,9 +180,9 @@ std::size_t KumarPairLanes(const PairInputs& in, const LawCoefficients& c, doubl
     if (gi[lanes - 1] - gi[0] < lanes && gi[0] + lanes <= in.n_rows) {
       const auto rel = hn::PromoteTo(di, hn::Sub(vi, hn::Set(d32, gi[0])));
       const Permuted si{hn::IndicesFromVec(D(), rel), gi[0]};
-      pair_kinematics(in, si, sj, kk, dx, dy, sxa, sya, b, l, best);
+      pair_kinematics(in, si, sj, kp, dx, dy, sxa, sya, b, l, best);
     } else {
-      pair_kinematics(in, Gathered{gi}, sj, kk, dx, dy, sxa, sya, b, l, best);
+      pair_kinematics(in, Gathered{gi}, sj, kp, dx, dy, sxa, sya, b, l, best);
     }
   }
   // the law on the whole batch: the vectors' long chains of square roots and divisions
