@@ -154,7 +154,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
   std::swap(touch_list, before_list);
   // Pass 1: distance checks only, one flat loop over the range's pairs (most listed pairs of
-  // a relaxed bed are apart); no stores but the list of touching pairs.
+  // a relaxed bed are apart); no stores but the list of touching pairs and their separations.
   touch_list.n = detail::screen_pairs(box, owner, partner, x, y, r,
                                       radii_scaled_ ? nullptr : pair_rs2_.data(), n_total_,
                                       k0, k1, touch_list.k.data(), touch_list.dx.data(),

@@ -44,4 +44,21 @@ inline std::size_t screen_scalar(const PeriodicBox& box, const int* owner, const
   return n;
 }
 
+/// @brief screen_scalar() for the periodicity of @p box.
+template <bool kRs2>
+inline std::size_t screen_scalar_box(const PeriodicBox& box, const int* owner, const int* partner,
+                                     const double* x, const double* y, const double* r,
+                                     const double* rs2, std::int64_t k0, std::int64_t k1,
+                                     std::int64_t* out, double* out_dx, double* out_dy) {
+  auto run = [&](auto screen) {
+    return screen(box, owner, partner, x, y, r, rs2, k0, k1, out, out_dx, out_dy);
+  };
+  if (box.periodic_x) {
+    return box.periodic_y ? run(screen_scalar<true, true, kRs2>)
+                          : run(screen_scalar<true, false, kRs2>);
+  }
+  return box.periodic_y ? run(screen_scalar<false, true, kRs2>)
+                        : run(screen_scalar<false, false, kRs2>);
+}
+
 }  // namespace grainlift::dem::detail

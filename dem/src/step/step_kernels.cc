@@ -64,8 +64,9 @@ constexpr SetLanes make_set_lanes() {
 constexpr SetLanes kSetLanes = make_set_lanes();
 
 /// screen_pairs() with rs2 on this target: pairs [k0, k1) a vector at a time, with the
-/// operations of screen_scalar() (pair_screen.h): x and y of the partners gathered, those of
-/// the owners (sorted: usually fewer distinct rows than lanes) loaded once and permuted;
+/// operations of screen_scalar() (pair_screen.h): x and y of the partners read lane by lane
+/// (gather_at), those of the owners (sorted: usually fewer distinct rows than lanes) loaded
+/// once and permuted;
 /// (r_i + r_j)^2 from rs2. The indices of the touching pairs are compressed into out, their
 /// separations into out_dx, out_dy. The last pairs (fewer than a vector) by screen_scalar().
 /// Returns the number of touching pairs.
@@ -309,15 +310,7 @@ std::size_t ScreenLanes(const PeriodicBox& box, const int* owner, const int* par
                         const double* x, const double* y, const double* rs2, int,
                         std::int64_t k0, std::int64_t k1, std::int64_t* out, double* odx,
                         double* ody) {
-  auto run = [&](auto screen) {
-    return screen(box, owner, partner, x, y, nullptr, rs2, k0, k1, out, odx, ody);
-  };
-  if (box.periodic_x) {
-    return box.periodic_y ? run(screen_scalar<true, true, true>)
-                          : run(screen_scalar<true, false, true>);
-  }
-  return box.periodic_y ? run(screen_scalar<false, true, true>)
-                        : run(screen_scalar<false, false, true>);
+  return screen_scalar_box<true>(box, owner, partner, x, y, nullptr, rs2, k0, k1, out, odx, ody);
 }
 int KickLanes(const PlainKick&, bool, int i, int, double&) { return i; }
 #endif
@@ -344,15 +337,7 @@ std::size_t screen_pairs(const PeriodicBox& box, const int* owner, const int* pa
                                              odx, ody);
   }
   // the scalar code, (r_i + r_j)^2 from r
-  auto run = [&](auto screen) {
-    return screen(box, owner, partner, x, y, r, rs2, k0, k1, out, odx, ody);
-  };
-  if (box.periodic_x) {
-    return box.periodic_y ? run(screen_scalar<true, true, false>)
-                          : run(screen_scalar<true, false, false>);
-  }
-  return box.periodic_y ? run(screen_scalar<false, true, false>)
-                        : run(screen_scalar<false, false, false>);
+  return screen_scalar_box<false>(box, owner, partner, x, y, r, rs2, k0, k1, out, odx, ody);
 }
 
 int kick_plain(const PlainKick& k, bool drift, int i, int hi, double& max_d2) {

@@ -91,7 +91,6 @@ struct ContactForce {
   bool slipping = false;  ///< Coulomb limit reached: |F_t| = mu |F_n|
 };
 
-
 /// @brief Evaluate the contact force and advance the tangential spring (sx, sy) in place.
 ///
 /// Kumar 2019 eq. (1)-(2):
