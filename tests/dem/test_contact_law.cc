@@ -2,16 +2,19 @@
 // the stick-then-slip sequence of an oblique contact and the spring truncation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "grainlift/dem/contact/contact_law.h"
 #include "grainlift/dem/contact/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/step/vector_kernels.h"
+#include "step/pair_inputs.h"
 
 namespace gd = grainlift::dem;
 
@@ -210,5 +213,138 @@ TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
                     ? "yes"
                     : "no");
   }
+  gd::set_simd_target(before);
+}
+
+namespace {
+/// A small bed for the pair lanes: grains (and wall rows after them) placed at random in a box
+/// periodic in x and y, so that about four neighbours overlap each, some across the edges; the
+/// overlapping pairs listed by owner row (a grain; the partner a grain of a later row or a wall).
+struct PairBed {
+  gd::PeriodicBox box{0.0, 0.3, 0.0, 0.2, true, true};
+  static constexpr int kGrains = 180, kRows = 200;
+  std::vector<double> x, y, r, vx, vy, w, ax, ay, al, inv_m, reff, meff, sx, sy, dx, dy;
+  std::vector<int> owner, partner;
+
+  explicit PairBed(std::uint64_t seed) {
+    auto uniform = [&seed](double lo, double hi) {
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return lo + (hi - lo) * static_cast<double>(seed >> 11) * 0x1.0p-53;
+    };
+    for (auto* v : {&x, &y, &r, &vx, &vy, &w, &ax, &ay, &al, &inv_m}) v->resize(kRows);
+    for (int g = 0; g < kRows; ++g) {
+      r[g] = uniform(0.009, 0.011);
+      x[g] = uniform(box.xmin, box.xmax);
+      y[g] = uniform(box.ymin, box.ymax);
+      const bool wall = g >= kGrains;  // frozen rows: no motion, no inverse mass
+      vx[g] = wall ? 0.0 : uniform(-0.5, 0.5);
+      vy[g] = wall ? 0.0 : uniform(-0.5, 0.5);
+      w[g] = wall ? 0.0 : uniform(-20, 20);
+      ax[g] = wall ? 0.0 : uniform(-50, 50);
+      ay[g] = wall ? 0.0 : uniform(-50, 50);
+      al[g] = wall ? 0.0 : uniform(-500, 500);
+      inv_m[g] = wall ? 0.0 : uniform(150, 250);
+    }
+    for (int i = 0; i < kGrains; ++i) {
+      for (int j = i + 1; j < kRows; ++j) {
+        double ddx = x[i] - x[j], ddy = y[i] - y[j];
+        box.min_image(ddx, ddy);
+        if (ddx * ddx + ddy * ddy < (r[i] + r[j]) * (r[i] + r[j])) {
+          owner.push_back(i);
+          partner.push_back(j);
+        }
+      }
+    }
+    // the separations, constants and springs of the pairs, as the screen and the list build
+    for (std::size_t k = 0; k < owner.size(); ++k) {
+      const int i = owner[k], j = partner[k];
+      double ddx = x[i] - x[j], ddy = y[i] - y[j];
+      box.min_image(ddx, ddy);
+      dx.push_back(ddx);
+      dy.push_back(ddy);
+      reff.push_back(r[i] * r[j] / (r[i] + r[j]));
+      meff.push_back(1.0 / (inv_m[i] + inv_m[j]));
+      const bool fresh = k % 5 == 0;
+      sx.push_back(fresh ? 0.0 : uniform(-2e-5, 2e-5));
+      sy.push_back(fresh ? 0.0 : uniform(-2e-5, 2e-5));
+    }
+  }
+  gd::PairInputs inputs(bool pair_consts) const {
+    return {box,      x.data(),     y.data(),       r.data(),   vx.data(), vy.data(),
+            w.data(), ax.data(),    ay.data(),      al.data(),  inv_m.data(), reff.data(),
+            meff.data(), owner.data(), partner.data(), pair_consts, 1e-6, 2e-6, kRows};
+  }
+};
+}  // namespace
+
+// The touching pairs' kinematics and Kumar's law a vector of pairs at a time
+// (kumar_pair_lanes, every SIMD target this CPU runs) give, pair by pair, the bits of the
+// scalar PairInputs::of() followed by contact_force(): normal, overlap, advanced spring and
+// forces, on pairs across the periodic box's edges and with wall rows, whose owners are
+// consecutive (one load permuted) or far apart (one load per lane), r_eff and m_eff from the
+// list or from the radii, in batches of 32, 13 and 1; and the largest overlap fraction is the
+// scalar loop's, delta / (2 min(r_i, r_j)). Tolerance: none (the same bits).
+TEST(ContactLaw, PairLanesGiveTheBitsOfTheScalarKinematicsAndLaw) {
+  const PairBed bed(2026);
+  const auto law = gd::LawCoefficients::from(gd::ContactParams{});
+  auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  std::vector<std::int64_t> all(bed.owner.size()), strided;
+  for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<std::int64_t>(k);
+  for (std::size_t k = 0; k < all.size(); k += 7) strided.push_back(static_cast<std::int64_t>(k));
+  const std::string before = gd::simd_target();
+  int vector_targets = 0;
+  for (const std::string& target : gd::runnable_simd_targets()) {
+    SCOPED_TRACE(target);
+    ASSERT_TRUE(gd::set_simd_target(target));
+    long pairs = 0;
+    for (bool consts : {true, false}) {
+      const gd::PairInputs in = bed.inputs(consts);
+      for (const auto* list : {&all, &strided}) {
+        for (std::size_t nb : {std::size_t{32}, std::size_t{13}, std::size_t{1}}) {
+          for (std::size_t b0 = 0; b0 + nb <= list->size(); b0 += nb) {
+            const std::int64_t* kb = list->data() + b0;
+            std::vector<double> ddx(nb), ddy(nb);  // the screen's separations, batch order
+            for (std::size_t l = 0; l < nb; ++l) {
+              ddx[l] = bed.dx[static_cast<std::size_t>(kb[l])];
+              ddy[l] = bed.dy[static_cast<std::size_t>(kb[l])];
+            }
+            gd::ContactBatch cb{};
+            double max_ov = 0.0;
+            const std::size_t done = gd::kumar_pair_lanes(in, law, 0.5, kb, ddx.data(), ddy.data(),
+                                                          nb, bed.sx.data(), bed.sy.data(), cb,
+                                                          max_ov);
+            if (target == "scalar") {
+              ASSERT_EQ(done, 0u);  // no lanes: the caller's scalar loop runs
+              continue;
+            }
+            ASSERT_EQ(done, nb);
+            double ref_ov = 0.0;
+            for (std::size_t l = 0; l < nb; ++l, ++pairs) {
+              const auto k = static_cast<std::size_t>(kb[l]);
+              gd::ContactKinematics kin = in.of(kb[l]);
+              kin.mu = 0.5;
+              double sx = bed.sx[k], sy = bed.sy[k];
+              gd::ContactForce f;
+              gd::contact_force(law, kin, sx, sy, f);
+              ASSERT_TRUE(same(cb.nx[l], kin.nx) && same(cb.ny[l], kin.ny) &&
+                          same(cb.delta[l], kin.delta) && same(cb.fx[l], f.fx) &&
+                          same(cb.fy[l], f.fy) && same(cb.ftx[l], f.ftx) &&
+                          same(cb.fty[l], f.fty) && same(cb.sx[l], sx) && same(cb.sy[l], sy))
+                  << "pair " << k << " lane " << l << " of " << nb << " consts " << consts;
+              const int i = bed.owner[k], j = bed.partner[k];
+              ref_ov = std::max(ref_ov, kin.delta / (2.0 * std::min(bed.r[i], bed.r[j])));
+            }
+            ASSERT_TRUE(same(max_ov, ref_ov)) << max_ov << " against " << ref_ov;
+          }
+        }
+      }
+    }
+    if (target != "scalar") {
+      ++vector_targets;
+      EXPECT_GT(pairs, 500);
+    }
+    std::printf("%s: %ld pairs compared\n", target.c_str(), pairs);
+  }
+  std::printf("vector targets: %d\n", vector_targets);
   gd::set_simd_target(before);
 }
