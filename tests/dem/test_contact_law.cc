@@ -14,6 +14,7 @@
 #include "grainlift/dem/contact/contact_law_batch.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/step/vector_kernels.h"
+#include "grainlift/dem/periodic_box.h"
 #include "step/pair_inputs.h"
 
 namespace gd = grainlift::dem;
@@ -270,9 +271,9 @@ struct PairBed {
     }
   }
   gd::PairInputs inputs(bool pair_consts) const {
-    return {box,      x.data(),     y.data(),       r.data(),   vx.data(), vy.data(),
-            w.data(), ax.data(),    ay.data(),      al.data(),  inv_m.data(), reff.data(),
-            meff.data(), owner.data(), partner.data(), pair_consts, 1e-6, 2e-6, kRows};
+    return {r.data(),     vx.data(),    vy.data(),      w.data(),    ax.data(), ay.data(),
+            al.data(),    inv_m.data(), reff.data(),    meff.data(), owner.data(),
+            partner.data(), pair_consts, 1e-6,          2e-6,        kRows};
   }
 };
 }  // namespace
@@ -321,7 +322,7 @@ TEST(ContactLaw, PairLanesGiveTheBitsOfTheScalarKinematicsAndLaw) {
             double ref_ov = 0.0;
             for (std::size_t l = 0; l < nb; ++l, ++pairs) {
               const auto k = static_cast<std::size_t>(kb[l]);
-              gd::ContactKinematics kin = in.of(kb[l]);
+              gd::ContactKinematics kin = in.of(kb[l], bed.dx[k], bed.dy[k]);
               kin.mu = 0.5;
               double sx = bed.sx[k], sy = bed.sy[k];
               gd::ContactForce f;

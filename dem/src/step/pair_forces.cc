@@ -51,14 +51,15 @@ void forget_apart_pairs(const std::int64_t* touching, std::size_t n_touching,
   }
 }
 
-/// The kinematics of the @p nb touching pairs @p kb into the batch @p cb (with their springs),
-/// or on the frictionless path (@p normal_only) their normal forces at once.
+/// The kinematics of the @p nb touching pairs @p kb (separations @p dx, @p dy) into the batch
+/// @p cb (with their springs), or on the frictionless path (@p normal_only) their normal
+/// forces at once.
 inline void fill_batch(const PairInputs& in, const LawCoefficients& law, bool normal_only,
-                       const std::int64_t* kb, std::size_t nb, const double* sx,
-                       const double* sy, ContactBatch& cb) {
+                       const std::int64_t* kb, const double* dx, const double* dy,
+                       std::size_t nb, const double* sx, const double* sy, ContactBatch& cb) {
   for (std::size_t b = 0; b < nb; ++b) {
     const std::int64_t k = kb[b];
-    const ContactKinematics kin = in.of(k);
+    const ContactKinematics kin = in.of(k, dx[b], dy[b]);
     if (normal_only) {
       const double fn = normal_contact_force(law, kin);
       cb.nx[b] = kin.nx;
@@ -170,10 +171,10 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   constexpr std::size_t kBatch = 32;
   // the pairs' kinematics (PairInputs::of); r_eff and m_eff of each pair computed by the same
   // expressions at the list build (valid until a radius changes)
-  const PairInputs in{opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), p_.vx.data(), p_.vy.data(),
-                        p_.w.data(), p_.ax.data(), p_.ay.data(), p_.alpha.data(), p_.inv_m.data(),
-                        pair_reff_.data(), pair_meff_.data(), nl_.owner.data(), nl_.partner.data(),
-                        !radii_scaled_, 0.5 * spring_dt, spring_dt, n_total_};
+  const PairInputs in{p_.r.data(),      p_.vx.data(),     p_.vy.data(),    p_.w.data(),
+                      p_.ax.data(),     p_.ay.data(),     p_.alpha.data(), p_.inv_m.data(),
+                      pair_reff_.data(), pair_meff_.data(), nl_.owner.data(), nl_.partner.data(),
+                      !radii_scaled_,   0.5 * spring_dt,  spring_dt,       n_total_};
   // the batch in structure-of-arrays form (contact_law_batch.h); value-initialised: lanes
   // past a short batch hold finite numbers
   ContactBatch cb{};
@@ -189,11 +190,12 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
     const std::int64_t* kb = touching + b0;
     // the kinematics and the law a vector of pairs at a time where a vector loop does both
     // (which also raises max_ov)
-    const bool lanes = !normal_only && kumar_pair_lanes(in, law, mu, kb, touch_list.dx.data() + b0,
-                                                        touch_list.dy.data() + b0, nb, sx, sy,
-                                                        cb, max_ov) > 0;
+    const double* dxb = touch_list.dx.data() + b0;
+    const double* dyb = touch_list.dy.data() + b0;
+    const bool lanes =
+        !normal_only && kumar_pair_lanes(in, law, mu, kb, dxb, dyb, nb, sx, sy, cb, max_ov) > 0;
     if (!lanes) {
-      fill_batch(in, law, normal_only, kb, nb, sx, sy, cb);
+      fill_batch(in, law, normal_only, kb, dxb, dyb, nb, sx, sy, cb);
       if (!normal_only) contact_force_batch(law, mu, cb, nb);
     }
     for (std::size_t b = 0; b < nb; ++b) {

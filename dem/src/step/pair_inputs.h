@@ -7,28 +7,25 @@
 #include <cstdint>
 
 #include "grainlift/dem/contact/contact_law_batch.h"
-#include "grainlift/dem/periodic_box.h"
 
 namespace grainlift::dem {
 
-/// The arrays of the grains (x .. inv_m, index of a grain) and of the listed pairs (reff, meff,
+/// The arrays of the grains (r .. inv_m, index of a grain) and of the listed pairs (reff, meff,
 /// owner, partner, index of a pair); local copies of the pointers: no aliasing with the
-/// arrays written.
+/// arrays written. The pairs' separations come from the pair screen (TouchList::dx, dy).
 struct PairInputs {
-  PeriodicBox box;
-  const double *x, *y, *r, *vx, *vy, *w, *ax, *ay, *al, *inv_m, *reff, *meff;
+  const double *r, *vx, *vy, *w, *ax, *ay, *al, *inv_m, *reff, *meff;
   const int *owner, *partner;
   bool pair_consts;  ///< r_eff and m_eff from the list build (no radius changed since)
   double h, dt;      ///< half the spring step; the spring step
   int n_rows;        ///< the grain arrays' length (grains and wall disks)
 
-  /// Normal, overlap, r_eff, m_eff and the contact-point motion of pair k (predicted
+  /// Normal, overlap, r_eff, m_eff and the contact-point motion of pair k whose centres are
+  /// (@p dx, @p dy) apart (the minimum image x_i - x_j, from the pair screen; predicted
   /// velocities at t + dt for the force, half-step velocities for the spring).
-  ContactKinematics of(std::int64_t k) const {
+  ContactKinematics of(std::int64_t k, double dx, double dy) const {
     const int i = owner[k], j = partner[k];
     const double ri = r[i], rj = r[j];
-    double dx = x[i] - x[j], dy = y[i] - y[j];
-    box.min_image(dx, dy);
     const double rs = ri + rj;
     ContactKinematics kin;
     pair_normal(dx, dy, rs, kin.nx, kin.ny, kin.delta);
