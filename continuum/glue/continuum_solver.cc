@@ -238,6 +238,8 @@ void add_level_series(const Case& c, const ContinuumOutput& out, Diagnostics& d)
     lv["level_torque"].push_back(l.torque);
     lv["level_nonlinear_steps"].push_back(l.nonlinear_steps);
     lv["level_seconds"].push_back(l.seconds);
+    lv["level_approach"].push_back(l.approach);
+    lv["level_adaptive_cycle"].push_back(l.adaptive_cycle);
   }
 }
 
@@ -301,6 +303,9 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
     d.values["estimated_error"] = out.estimated_error;
     d.counts["target_met"] = out.target_met ? 1 : 0;
     d.counts["stopped_at_refinement"] = out.levels.empty() ? 0 : out.levels.back().refinement;
+    if (cfg.adaptive_cycles > 0)
+      d.counts["stopped_at_adaptive_cycle"] =
+          out.levels.empty() ? 0 : out.levels.back().adaptive_cycle;
   }
   if (coarser) add_mesh_error(m, *coarser, d);
   if (!out.levels.empty()) add_level_series(c, out, d);

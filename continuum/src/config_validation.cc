@@ -123,9 +123,9 @@ void validate_config(const ContinuumConfig& c) {
   require(finite(c.target_error) && c.target_error >= 0 && c.target_error < 1,
           "target_error must be in [0, 1)");
   if (c.target_error > 0)
-    require(c.nested && c.adaptive_cycles == 0,
-            "target_error stops the nested levels: it needs continuum.nested = true and no "
-            "adaptive cycles");
+    require(c.nested,
+            "target_error stops the nested levels (and the adaptive cycles after them): it needs "
+            "continuum.nested = true");
   validate_models(c);
   if (c.fields.enabled)
     require(c.fields.spacing > 0 && c.fields.nx > 0 && c.fields.ny > 0,

@@ -67,13 +67,21 @@ ContinuumOutput CylinderProblem::run() {
     level_start = std::chrono::steady_clock::now();
     solve_next_level(level);
     record_level(level, level_start);
-    if (target_met(level)) break;
+    if (target_met()) break;
   }
-  for (int cycle = 0; cycle < config_.adaptive_cycles && problem_->report().converged; ++cycle) {
+  // adaptive cycles, with a target error each a step of the same estimate (target_met())
+  for (int cycle = 0; cycle < config_.adaptive_cycles && problem_->report().converged &&
+                      !out_.target_met;
+       ++cycle) {
     if (stop()) break;
+    level_start = std::chrono::steady_clock::now();
     refine_mesh(cycle);
-    schedule_after_refinement();
-    solve_with_continuation();
+    level_approach_ = solve_from_carried(false);
+    if (!nested) continue;
+    record_level(config_.refinement, level_start);
+    out_.levels.back().adaptive_cycle = cycle + 1;
+    out_.levels.back().approach = level_approach_;
+    if (target_met()) break;
   }
   if (nonlocal && !nonlocal_nested && problem_->report().converged && !out_.interrupted)
     solve_nonlocal_fluidity();
@@ -178,6 +186,7 @@ void CylinderProblem::solve_with_continuation() {
       os << "continuum: continuation stage " << stage_number_ + 1 << ", delta = " << st.delta
          << " 1/s";
     }
+    nl.stall_window = stall_window_;
     say(os.str());
     const VectorType saved = problem_->solution();
     problem_->solve_nonlinear(nl);
@@ -196,6 +205,8 @@ void CylinderProblem::solve_with_continuation() {
     }
     if (problem_->report().converged) done_delta_ = st.delta;
     todo_.pop_front();
+    // a guarded approach (solve_from_carried()) gives up at its first failed stage
+    if (!problem_->report().converged && stall_window_ > 0) todo_.clear();
   }
 }
 

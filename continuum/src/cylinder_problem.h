@@ -57,6 +57,11 @@ class CylinderProblem {
   void solve_next_level(int level);
   void record_level(int level, std::chrono::steady_clock::time_point started);
   void schedule_after_refinement();
+  /// The problem on a refined mesh from the state carried over to it, by the first approach
+  /// that converges: 0 the final stage (only with @p final_first), 1 the last two stages and
+  /// the final one, 2 the whole continuation from the far field; returns it
+  /// (cylinder_refinement.cc).
+  int solve_from_carried(bool final_first);
   void correct_for_gravity();
   void report_convergence();
   void check_well_posedness();
@@ -67,10 +72,10 @@ class CylinderProblem {
   void sample_fields();
   void output_results() const;
   void hand_out_converged_level();
-  /// With ContinuumConfig::target_error: the estimated error of nested level @p level (its
-  /// forces against the level below, in out_.estimated_error) and whether it meets the target
-  /// (levels >= 2 only; cylinder_refinement.cc).
-  bool target_met(int level);
+  /// With ContinuumConfig::target_error: the estimated error of the mesh just recorded (a
+  /// nested level >= 2 or an adaptive cycle: its forces against the two meshes before it, in
+  /// out_.estimated_error) and whether it meets the target (cylinder_refinement.cc).
+  bool target_met();
   /// The nonlocal fluidity model from the converged local state: fluidity and flow solved in
   /// turn until g settles (fluidity/nonlocal_coupling.cc).
   void solve_nonlocal_fluidity();
@@ -112,6 +117,12 @@ class CylinderProblem {
   int steps_recorded_ = 0;  ///< nonlinear steps counted in out_.levels so far
   int outputs_stage_ = -1;  ///< stage_number_ of the state whose forces are in out_
   double done_delta_ = -1;  ///< delta of the last converged stage; < 0: none yet
+  /// > 0 (solve_next_level()'s approaches from an interpolated level): every stage's
+  /// NonlinearSettings::stall_window, and the approach ends at its first failed stage
+  int stall_window_ = 0;
+  /// how the level just solved was reached (solve_from_carried(); 2 for level 0: the whole
+  /// continuation from the far field), for LevelResult::approach
+  int level_approach_ = 2;
   std::vector<std::unique_ptr<MuIRheology>> stage_rheology_;  ///< outlive the solves
 
   // linearised gravity: the problem with gravity and the first-order correction

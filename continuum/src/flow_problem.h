@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <array>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <map>
@@ -110,6 +111,12 @@ struct NonlinearSettings {
   double absolute_tolerance = 1e-300;
   int max_iterations = 50;
   int picard_iterations = 5;
+  /// > 0: give up (not converged, "stalled") once the last stall_window Newton steps' lengths
+  /// have a geometric mean at or below stall_step (a Newton step redone as Picard counts as
+  /// the line search's shortest, 1/1024): the line search keeps cutting the steps, and a
+  /// caller with a better start (more regularisation) can take over. 0: never.
+  int stall_window = 0;
+  double stall_step = 1.0 / 16;
 };
 
 struct ProblemSetup {
@@ -275,6 +282,10 @@ class FlowProblem {
   /// One Newton (with line search) or Picard step from solution_ at |R| = @p r.
   NonlinearStep nonlinear_step(NonlinearWork& w, bool newton, bool nonlinear, double r,
                                double r_ref);
+  /// Whether the Newton steps have stalled (NonlinearSettings::stall_window), @p log_steps
+  /// the log2 of the last steps' lengths (updated).
+  bool stalled(const NonlinearSettings& nl, bool newton_phase, const NonlinearStep& step,
+               std::deque<double>& log_steps) const;
   /// The merit's weights: the inverse |diagonal| of the velocity block, 1 on the pressure rows.
   void jacobi_weights(VectorType& weight) const;
   /// The line-search merit of the residual @p v (weighted or plain norm). Collective.

@@ -2,6 +2,7 @@
 // line search on a Jacobi-weighted merit (see solve_nonlinear()).
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <sstream>
 
 #include "flow_problem.h"
@@ -56,6 +57,7 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
   // below). A Newton step whose line search fails (no sufficient decrease down to a step of
   // 1/1024) is replaced by a Picard step. Convergence is always judged on the plain |R|.
   bool newton_phase = !nonlinear || nl.picard_iterations == 0;
+  std::deque<double> log_steps;  // log2 of the last Newton steps' lengths (nl.stall_window)
   for (int it = 0; it < max_it; ++it) {
     if (!newton_phase && it >= nl.picard_iterations &&
         (r < 0.5 * r0 || it >= 4 * std::max(nl.picard_iterations, 1)))
@@ -74,11 +76,31 @@ void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
       report_.converged = true;
       break;
     }
+    if (stalled(nl, newton_phase, step, log_steps)) {
+      std::ostringstream os;
+      os << "stalled: the last " << nl.stall_window << " Newton steps' lengths average (geometric"
+         << " mean) at most " << nl.stall_step << ", |R|/|R0| = " << r / r_ref;
+      report_.message = os.str();
+      break;
+    }
   }
   if (!nonlinear && !iterative && std::isfinite(r))
     report_.converged = true;  // one exact direct solve
   report_.final_residual = r;
   report_nonconvergence(r / r_ref);
+}
+
+/// Whether the Newton phase has stalled by NonlinearSettings::stall_window: @p log_steps keeps
+/// log2 of the last Newton-phase step lengths (a Newton step redone as Picard: log2 1/1024).
+bool FlowProblem::stalled(const NonlinearSettings& nl, bool newton_phase,
+                          const NonlinearStep& step, std::deque<double>& log_steps) const {
+  if (nl.stall_window <= 0 || !newton_phase) return false;
+  log_steps.push_back(step.newton ? std::log2(step.alpha) : -10.0);
+  if (static_cast<int>(log_steps.size()) > nl.stall_window) log_steps.pop_front();
+  if (static_cast<int>(log_steps.size()) < nl.stall_window) return false;
+  double sum = 0;
+  for (const double l : log_steps) sum += l;
+  return sum / nl.stall_window <= std::log2(nl.stall_step);
 }
 
 /// A Newton step from solution_ with its line search (@p newton), or a Picard step taken in

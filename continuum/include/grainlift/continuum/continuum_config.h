@@ -191,6 +191,13 @@ struct LevelResult {
   int nonlinear_steps = 0;            ///< Picard and Newton steps spent on this level
   double seconds = 0;                 ///< wall time of this level (refinement, set-up, solves)
   bool converged = false;
+  /// how it was reached: 0 the final stage from the interpolated coarser level, 1 from it
+  /// through the last two continuation stages, 2 the whole continuation from the far field
+  /// (level 0, and a level neither of the others converged on)
+  int approach = 0;
+  /// 0: a nested level (every cell refined); k >= 1: adaptive cycle k on top of the finest
+  /// nested level (Kelly's 30%)
+  int adaptive_cycle = 0;
 };
 
 struct ContinuumOutput {
