@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cylinder_case.h"
 #include "grainlift/continuum/solver.h"
 
 using namespace grainlift::continuum;
@@ -19,15 +20,8 @@ using namespace grainlift::continuum;
 // - with the target just above e_1 the run stops at cycle 1, with the reference's cycle-1
 //   forces exactly (the same meshes and solves) and e_1 reported.
 TEST(Cylinder, AdaptiveCyclesStopAtTheTargetAndTheirEstimateCoversTheFinestMesh) {
-  ContinuumConfig c;
-  c.intruder_diameter = 0.1;
-  c.half_width = 0.5;
-  c.half_height = 0.5;
-  c.intruder_velocity = {0.1, 0};
+  ContinuumConfig c = grainlift::continuum::test::coarse_case();
   c.intruder_omega = 4.0;
-  c.ambient_pressure = 1000;
-  c.inertia = InertiaMode::off;
-  c.refinement = 1;
   c.adaptive_cycles = 3;
   const ContinuumOutput ref = solve_flow(c);
   ASSERT_TRUE(ref.converged) << ref.message;

@@ -6,25 +6,12 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "cylinder_case.h"
 #include "grainlift/continuum/errors.h"
 #include "grainlift/continuum/solver.h"
 
 using namespace grainlift::continuum;
-
-namespace {
-ContinuumConfig coarse_case() {
-  ContinuumConfig c;
-  c.intruder_diameter = 0.1;
-  c.half_width = 0.5;
-  c.half_height = 0.5;
-  c.intruder_velocity = {0.1, 0};
-  c.ambient_pressure = 1000;
-  c.refinement = 1;
-  c.inertia = InertiaMode::off;
-  c.surface_theta = {0.0, M_PI / 4, M_PI / 2, -M_PI / 2, M_PI};
-  return c;
-}
-}  // namespace
+using grainlift::continuum::test::coarse_case;
 
 // No gravity, no spin: the problem is symmetric about the axis of motion, so the lift must
 // vanish to solver tolerance (|L| < 1e-6 D) while the drag is positive; sigma_n is symmetric

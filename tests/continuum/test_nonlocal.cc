@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cylinder_case.h"
 #include "grainlift/continuum/errors.h"
 #include "grainlift/continuum/solver.h"
 #include "grainlift/continuum/verification.h"
@@ -18,15 +19,9 @@ namespace {
 // with the Chauchat-Medale regularisation (whose viscosity cap mu_s p / (2 delta) is the
 // nonlocal model's at its fluidity floor g_min = 2 delta / mu_s), refinement 1.
 ContinuumConfig spinning_case() {
-  ContinuumConfig c;
-  c.intruder_diameter = 0.1;
-  c.half_width = 0.5;
-  c.half_height = 0.5;
-  c.intruder_velocity = {0.1, 0};
+  ContinuumConfig c = grainlift::continuum::test::coarse_case();
+  c.surface_theta.clear();
   c.intruder_omega = 4.0;
-  c.ambient_pressure = 1000;
-  c.refinement = 1;
-  c.inertia = InertiaMode::off;
   c.rheology.regularisation = Regularisation::chauchat_medale;
   c.rheology.grain_diameter = 0.01;
   return c;

@@ -249,17 +249,13 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                       "error; stated without one, the level solved; unstated with nested = "
                       "false or adaptive_cycles, 2"));
   k.push_back(real("continuum.target_error", false, "0.01", 0, 1, false, true, "-",
-                   "> 0: the nested levels stop at the first >= 2 whose estimated relative "
-                   "force error is at most this (up to continuum.refinement), then the "
-                   "adaptive cycles at the first that meets it; 0: every level and cycle. "
-                   "Unstated: 0.01, or 0 with a stated refinement, adaptive cycles or without "
-                   "nested levels"));
+                   "> 0: the nested levels (>= 2), then adaptive cycles, stop at the first "
+                   "whose estimated relative force error is at most this; 0: all. Unstated: "
+                   "0.01, or 0 with a stated refinement, adaptive cycles or nested = false"));
   k.push_back(integer("continuum.adaptive_cycles", "0", 0, 5,
-                      "adaptive refinement cycles after the first solve (after the nested "
-                      "levels): each refines the 30% of the cells with the largest Kelly "
-                      "indicator of the velocity (level jumps of at most one across faces and "
-                      "vertices; the same mesh on one and on N MPI ranks); with a stated "
-                      "target_error they stop at the first that meets it"));
+                      "refinement cycles after the (nested) levels: each refines the 30% of "
+                      "the cells of largest Kelly indicator of the velocity (level jumps of at "
+                      "most one; the same mesh on 1 and N MPI ranks); a target_error stops them"));
   k.push_back(boolean("continuum.nested", "true",
                       "nested iteration: the continuation in the regularisation runs on "
                       "refinement 0, each finer level starts from the interpolated coarser "
