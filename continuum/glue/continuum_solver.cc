@@ -382,7 +382,8 @@ SolverEntry solver_entry() {
       cfg.level_converged = [&](const ContinuumOutput& level) {
         if (!opt.save_partial) return;
         saved_level = fmt::format("the converged mesh of {} cells", level.cells);
-        if (!level.levels.empty()) saved_refinement = level.levels.back().refinement;
+        if (!level.levels.empty() && level.levels.back().adaptive_cycle == 0)
+          saved_refinement = level.levels.back().refinement;
         RunResult r = to_result(c, cfg, level, std::nullopt);
         r.meta.partial = true;
         r.meta.notes += fmt::format(
