@@ -80,7 +80,6 @@ ContinuumOutput CylinderProblem::run() {
     if (!nested) continue;
     record_level(config_.refinement, level_start);
     out_.levels.back().adaptive_cycle = cycle + 1;
-    out_.levels.back().approach = level_approach_;
     if (target_met()) break;
   }
   if (nonlocal && !nonlocal_nested && problem_->report().converged && !out_.interrupted)
@@ -158,6 +157,10 @@ void CylinderProblem::schedule_continuation() {
        config_.continuation && delta > 2 * config_.rheology.delta && delta > 1e-6 * gamma_ref;
        delta *= 0.1)
     schedule_.push_back(delta);
+  schedule_whole_continuation();
+}
+
+void CylinderProblem::schedule_whole_continuation() {
   for (const double delta : schedule_) todo_.push_back({delta, false});
   todo_.push_back({config_.rheology.delta, true});
 }

@@ -57,6 +57,8 @@ class CylinderProblem {
   void solve_next_level(int level);
   void record_level(int level, std::chrono::steady_clock::time_point started);
   void schedule_after_refinement();
+  /// Every stage of schedule_, then the final one (the continuation from the far field).
+  void schedule_whole_continuation();
   /// The problem on a refined mesh from the state carried over to it, by the first approach
   /// that converges: 0 the final stage (only with @p final_first), 1 the last two stages and
   /// the final one, 2 the whole continuation from the far field; returns it

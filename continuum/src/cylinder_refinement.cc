@@ -143,30 +143,31 @@ void CylinderProblem::solve_next_level(int level) {
 int CylinderProblem::solve_from_carried(bool final_first) {
   const VectorType carried = problem_->solution();
   stall_window_ = kStallWindow;
+  int approach = -1;
   if (final_first) {
     done_delta_ = -1;  // no split of the final stage: the next approach instead
     todo_.push_back({config_.rheology.delta, true});
     solve_with_continuation();
-    if (problem_->report().converged) {
-      stall_window_ = 0;
-      return 0;
-    }
-    say("continuum: the final stage did not converge from the carried state; again from it "
-        "through the last two stages");
-    problem_->solution() = carried;
+    if (problem_->report().converged) approach = 0;
   }
-  if (!(final_first && schedule_.empty())) {  // without stages: approach 0 again, skipped
+  // (without intermediate stages approach 1 would be approach 0 again)
+  if (approach < 0 && !(final_first && schedule_.empty())) {
+    if (final_first) {
+      say("continuum: the final stage did not converge from the carried state; again from it "
+          "through the last two stages");
+      problem_->solution() = carried;
+    }
     schedule_after_refinement();
     solve_with_continuation();
+    if (problem_->report().converged) approach = 1;
   }
   stall_window_ = 0;
-  if (problem_->report().converged) return 1;
+  if (approach >= 0) return approach;
   say("continuum: the carried state did not converge; the whole continuation on this mesh "
       "from the far field");
   problem_->interpolate_initial_guess();
   done_delta_ = -1;  // splits from the first stage on
-  for (const double delta : schedule_) todo_.push_back({delta, false});
-  todo_.push_back({config_.rheology.delta, true});
+  schedule_whole_continuation();
   solve_with_continuation();
   return 2;
 }
@@ -180,7 +181,7 @@ void CylinderProblem::record_level(int level,
   lr.cells = static_cast<int>(mesh_->tria().n_global_active_cells());
   lr.dofs = static_cast<int>(problem_->dof_handler().n_dofs());
   lr.converged = problem_->report().converged;
-  lr.approach = level == 0 ? 2 : level_approach_;
+  lr.approach = level_approach_;
   const int steps = problem_->report().picard_steps + problem_->report().newton_steps;
   lr.nonlinear_steps = steps - steps_recorded_;
   steps_recorded_ = steps;
