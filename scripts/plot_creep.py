@@ -3,7 +3,8 @@
 grains' velocity against height with its error, the nonlocal fluidity fitted (v_fit, at the
 pooled profile's A) and the local mu(I) with the same floor and factor (v_local), on a log scale
 so that the creep below the yield height shows; beside it mu = tau / p and the velocity
-fluctuation delta v.
+fluctuation delta v, and (files that have it) the grains' hexatic order |psi6|, near 1 where
+the layer has crystallised.
 
     plot_creep.py PROFILE.creep.csv [OUT.png]     (default: beside the file, .png)
 """
@@ -22,7 +23,8 @@ def main(path, out):
         title = fh.readline().lstrip("# ").strip()
     d = np.genfromtxt(path, delimiter=",", names=True, skip_header=1)
     y = d["y_m"]
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4.5), sharey=True)
+    order = "psi6" in d.dtype.names
+    fig, ax = plt.subplots(1, 3 if order else 2, figsize=(13 if order else 10, 4.5), sharey=True)
     v, e = d["vx_m_per_s"], d["vx_stderr"]
     top = max(v.max(), 1e-12)
     ax[0].errorbar(np.maximum(v, 1e-6 * top), y, xerr=e, fmt="o", ms=3, label="DEM, pooled beds")
@@ -43,6 +45,10 @@ def main(path, out):
                   label="delta v")
     twin.set_xlabel("delta v (m/s)", color="C3")
     ax[1].legend(fontsize=8, loc="lower right")
+    if order:
+        ax[2].plot(d["psi6"], y, "o-", ms=3, color="C2")
+        ax[2].set_xlim(0, 1)
+        ax[2].set_xlabel("grains' hexatic order |psi6| (1: triangular crystal)")
     fig.suptitle("\n".join(textwrap.wrap(title, 120)), fontsize=8)
     fig.tight_layout()
     save(fig, out)

@@ -49,16 +49,16 @@ int calibrate_nonlocal(const CalibrateArgs& a, const Case& c, const std::string&
   std::string csv = fmt::format(
       "# grainlift calibrate --nonlocal: {} beds pooled; tau = {} +- {}, mu_s = {}; v_fit at "
       "the pooled profile's A = {}, v_local at the local limit\n"
-      "y_m,vx_m_per_s,vx_stderr,pressure,mu,dv_m_per_s,dv_stderr,v_fit,v_local\n",
+      "y_m,vx_m_per_s,vx_stderr,pressure,mu,dv_m_per_s,dv_stderr,v_fit,v_local,psi6\n",
       cal.cells.size(), p.shear_stress, p.shear_stress_err, law.mu_i.mu_s,
       cal.profile_fit_amplitude);
   const auto at = [](const std::vector<double>& v, std::size_t k) {
     return k < v.size() ? v[k] : std::nan("");
   };
   for (std::size_t k = 0; k < p.y.size(); ++k)
-    csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", p.y[k], p.vx[k], p.vx_err[k],
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", p.y[k], p.vx[k], p.vx_err[k],
                        p.pressure[k], p.shear_stress / p.pressure[k], p.dv[k], p.dv_err[k],
-                       at(cal.fit_velocity, k), at(cal.local_velocity, k));
+                       at(cal.fit_velocity, k), at(cal.local_velocity, k), at(p.psi6, k));
   const std::string csv_path = std::filesystem::path(out).replace_extension(".creep.csv").string();
   write_text_atomically(csv_path, csv);
   const std::string png = std::filesystem::path(out).replace_extension(".creep.png").string();

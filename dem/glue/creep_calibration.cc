@@ -29,6 +29,7 @@ CreepProfile profile_of(const ShearCellResult& r, double d, double wall_layer) {
   p.pressure = r.profile_pressure;
   p.dv = r.profile_dv;
   p.dv_err = r.profile_dv_stderr;
+  p.psi6 = r.profile_psi6;
   p.shear_stress = r.shear_stress.mean;
   p.shear_stress_err = r.shear_stress.se;
   p.bottom = 0;
@@ -55,7 +56,8 @@ CreepProfile pooled_profile(const std::vector<CreepProfile>& beds, double wall_m
     return s / double(beds.size());
   };
   CreepProfile p = beds.front();
-  for (auto* v : {&p.y, &p.vx, &p.vx_err, &p.pressure, &p.dv, &p.dv_err}) v->resize(bins);
+  for (auto* v : {&p.y, &p.vx, &p.vx_err, &p.pressure, &p.dv, &p.dv_err, &p.psi6})
+    v->resize(bins, std::nan(""));
   for (std::size_t k = 0; k < bins; ++k) {
     const PooledMean v = pool([k](const CreepProfile& b) { return b.vx[k]; },
                               [k](const CreepProfile& b) { return b.vx_err[k]; });
@@ -63,6 +65,10 @@ CreepProfile pooled_profile(const std::vector<CreepProfile>& beds, double wall_m
                                [k](const CreepProfile& b) { return b.dv_err[k]; });
     p.vx[k] = v.mean, p.vx_err[k] = v.error, p.dv[k] = dv.mean, p.dv_err[k] = dv.error;
     p.pressure[k] = mean([k](const CreepProfile& b) { return b.pressure[k]; });
+    double order = 0, beds_with = 0;  // the beds' last states, those measured
+    for (const CreepProfile& b : beds)
+      if (k < b.psi6.size() && std::isfinite(b.psi6[k])) order += b.psi6[k], beds_with += 1;
+    p.psi6[k] = beds_with > 0 ? order / beds_with : std::nan("");
   }
   const PooledMean tau = pool([](const CreepProfile& b) { return b.shear_stress; },
                               [](const CreepProfile& b) { return b.shear_stress_err; });

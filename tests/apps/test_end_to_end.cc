@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -324,7 +325,8 @@ TEST(EndToEnd, CalibrateWritesAFittedRheologyFile) {
 // the bit), A lies inside the searched range [0.01, 10] with an error bar (measured 0.21 +-
 // 0.07), the fitted bins span mu from below 0.2 (the creeping bed, p up to 3 P0) to above the
 // calibrated mu_s 0.239 (the sheared top), and the profile is written beside the file with a
-// row per bin. Without a rheology file to read mu_s from the command is bad input (exit 2).
+// row per bin, each with its grains' hexatic order |psi6| in [0, 1] (last column). Without a
+// rheology file to read mu_s from the command is bad input (exit 2).
 TEST(EndToEnd, CalibrateNonlocalAddsTheCooperativityAmplitude) {
   const fs::path dir = scratch();
   const std::string demo = std::string(GRAINLIFT_SOURCE_DIR) + "/cases/demo/";
@@ -350,9 +352,18 @@ TEST(EndToEnd, CalibrateNonlocalAddsTheCooperativityAmplitude) {
   std::ifstream csv(dir / "demo_law.creep.csv");
   std::string line;
   int rows = 0;
-  while (std::getline(csv, line))
-    if (!line.empty() && line[0] != '#' && line[0] != 'y') ++rows;
+  int ordered = 0;  // rows whose last column, the grains' |psi6|, lies in [0, 1]
+  while (std::getline(csv, line)) {
+    if (line.rfind("y_m,", 0) == 0) {
+      EXPECT_EQ(line.substr(line.rfind(',') + 1), "psi6");
+    }
+    if (line.empty() || line[0] == '#' || line[0] == 'y') continue;
+    ++rows;
+    const double psi6 = std::strtod(line.c_str() + line.rfind(',') + 1, nullptr);
+    if (psi6 >= 0 && psi6 <= 1) ++ordered;
+  }
   EXPECT_GE(rows, a.points) << out;
+  EXPECT_GE(ordered, a.points) << out;
   const int bad = run("calibrate " + demo + "demo.toml --nonlocal --out " +
                           (dir / "none.toml").string(), &out);
   EXPECT_EQ(bad, 2) << out;

@@ -1,6 +1,7 @@
 // Simple-shear cell at imposed pressure (shear_cell.h): bed, lid at P moving at U, run-in
 // extended until steady, measurement window with samples, velocity profile and block errors.
 #include "grainlift/dem/scenes/shear_cell.h"
+#include "grainlift/dem/scenes/bond_order.h"
 
 #include <algorithm>
 #include <cmath>
@@ -248,6 +249,27 @@ void window_statistics(const ShearCellConfig& c, const CellSeries& x, const Prof
   fit_profile(r, layer, r.lid_height.mean - layer, c.wall_speed);
 }
 
+/// The mean |psi6| of the grains per bin of @p d above @p y_bottom (@p bins of them), in the
+/// system's present state, periodic in x over @p width.
+std::vector<double> psi6_profile(const DemSystem& s, double y_bottom, double d, double width,
+                                 std::size_t bins) {
+  const auto& pa = s.particles();
+  const auto n = static_cast<std::size_t>(s.grains());
+  const std::vector<double> x(pa.x.begin(), pa.x.begin() + std::ptrdiff_t(n)),
+      y(pa.y.begin(), pa.y.begin() + std::ptrdiff_t(n)),
+      r(pa.r.begin(), pa.r.begin() + std::ptrdiff_t(n));
+  const std::vector<double> order = hexatic_order(x, y, r, width);
+  std::vector<double> sum(bins, 0.0), count(bins, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double k = std::floor((y[i] - y_bottom) / d);
+    if (k < 0 || k >= double(bins) || !std::isfinite(order[i])) continue;
+    sum[std::size_t(k)] += order[i];
+    count[std::size_t(k)] += 1;
+  }
+  for (std::size_t k = 0; k < bins; ++k) sum[k] = count[k] > 0 ? sum[k] / count[k] : std::nan("");
+  return sum;
+}
+
 }  // namespace
 
 DemConfig shear_cell_dem_config(const ShearCellConfig& c) {
@@ -381,6 +403,7 @@ ShearCellResult run_shear_cell(const ShearCellConfig& c, const ProgressCallback&
   }
 
   window_statistics(c, {&p, &tau, &tau_bottom, &p_bottom, &height, &phi}, profile, d, width, r);
+  r.profile_psi6 = psi6_profile(s, y_bottom, d, width, r.profile_y.size());
   r.inertial_number = r.shear_rate * d / std::sqrt(r.pressure.mean / dc.density);
   return r;
 }

@@ -87,6 +87,10 @@ struct ShearCellResult {
   /// N/m, mean pressure at the bin centre: the lid's P plus gravity times the mean mass of the
   /// grains above that height per unit width (P everywhere without gravity)
   std::vector<double> profile_pressure;
+  /// per bin, the mean local hexatic order |psi6| (bond_order.h) of its grains in the window's
+  /// last state (NaN in a bin without a grain that has neighbours): near 1 where the layer has
+  /// crystallised, lower where it is disordered
+  std::vector<double> profile_psi6;
   /// Least-squares line vx = a + gamma_dot y through the bulk bins.
   double shear_rate = 0;       ///< 1/s, gamma_dot
   double profile_r2 = 0;       ///< coefficient of determination of the line

@@ -27,6 +27,9 @@ struct CreepProfile {
   /// m/s, the grains' velocity fluctuation about the bin's mean and its error (reported, not
   /// fitted; empty or of y's length)
   std::vector<double> dv, dv_err;
+  /// the grains' mean local hexatic order |psi6| per bin (reported, not fitted; empty or of y's
+  /// length; NaN where unmeasured): near 1 where the layer has crystallised
+  std::vector<double> psi6;
   double shear_stress = 0;       ///< tau, uniform across the layer
   double shear_stress_err = 0;
   double bottom = 0, top = 0;    ///< m, the walls (g' = 0 there)
