@@ -31,7 +31,7 @@ run() {  # run NAME ARGS...
   mkdir -p "$dir"
   if [[ ! -f "$dir/fem.h5" ]]; then
     "$G" run "$CASE" --solver fem --quiet --out "$dir" --set continuum.refinement=2 \
-      --set continuum.target_error=0 "$@" \
+      --set continuum.target_error=0 --set 'continuum.dilatancy="none"' "$@" \
       > "$dir/log.txt" 2>&1 ||
       { echo "| $name | failed: $(tail -1 "$dir/log.txt" | cut -c1-160) |"; return 0; }
   fi
@@ -86,7 +86,8 @@ if [[ $PART == models || $PART == all ]]; then
   ACAL=$(awk '/^\[/ { t = $0 } t == "[nonlocal]" && $1 == "amplitude" { print $3 }' \
     cases/demo/rheology.toml)
   NGF_CAL=(--set 'continuum.model="nonlocal_fluidity"' --set "continuum.nonlocal_amplitude=$ACAL")
-  DIL=(--set 'continuum.dilatancy="phi_i"')  # the calibrated Phi(I) of the case's rheology
+  # the calibrated Phi(I) of the case's rheology (every other run: incompressible, "none")
+  DIL=(--set 'continuum.dilatancy="phi_i"')
   for box in demo big; do
     extra=()
     [[ $box == big ]] && extra=("${BIG[@]}")

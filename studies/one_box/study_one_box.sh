@@ -59,6 +59,9 @@ run_one() {  # run_one DIR SOLVER CASE ARGS...
   # the FEM at refinement 2 where the scene states no level (the cases' default is a 1% target)
   [[ $solver == fem && $* != *continuum.refinement* ]] &&
     set -- "$@" --set continuum.refinement=2 --set continuum.target_error=0
+  # the FEM incompressible, the law of its tables (the default is dilatant where calibrated)
+  [[ $solver == fem && $* != *continuum.dilatancy* ]] &&
+    set -- "$@" --set "'continuum.dilatancy=\"none\"'"
   mkdir -p "$dir"
   if ! eval "\"$G\" run $case --solver $solver --threads 1 --quiet --out \"$dir\" $*" \
       > "$dir/log.txt" 2>&1; then

@@ -303,7 +303,8 @@ TEST(ContinuumBox, OpenAndSymmetricBoxesAreWhereTheKeysSay) {
 // (the demo's: 0.7945 - 0.3122 I, calibrated up to I = 0.470) and floors it at the calibrated
 // range's end, to the file's digits; a case with no calibrated law is refused, naming the key.
 // "auto" is phi_i on the demo, none with the nonlocal model, linearised gravity or no
-// calibrated law; the default ("none") is incompressible.
+// calibrated law; the default is "auto" (the cross-check's choice: dilatant on the demo) and
+// "none" is incompressible.
 TEST(ContinuumGlue, DilatancyTakesTheCalibratedPhiOfI) {
   namespace gc = grainlift::continuum;
   const gc::ContinuumConfig f = gc::make_continuum_config(
@@ -320,7 +321,10 @@ TEST(ContinuumGlue, DilatancyTakesTheCalibratedPhiOfI) {
         gc::make_continuum_config(case_file("cases/demo/demo.toml", {automatic, other}), "out")
             .dilatancy.enabled)
         << other;
-  EXPECT_FALSE(gc::make_continuum_config(case_file("cases/demo/demo.toml"), "out")
+  EXPECT_TRUE(gc::make_continuum_config(case_file("cases/demo/demo.toml"), "out")
+                  .dilatancy.enabled);
+  EXPECT_FALSE(gc::make_continuum_config(
+                   case_file("cases/demo/demo.toml", {"continuum.dilatancy=\"none\""}), "out")
                    .dilatancy.enabled);
   EXPECT_NEAR(f.dilatancy.phi_max, 0.79449070839902569, 1e-15);
   EXPECT_NEAR(f.dilatancy.a, 0.31220425511713124, 1e-15);

@@ -294,14 +294,14 @@ void add_nonlocal_keys(std::vector<KeySpec>& k) {
   k.push_back(real("continuum.nonlocal_tolerance", false, "2e-3", 0, 1, true, true, "-",
                    "the splitting stops when the force and the torque move by less than this "
                    "(relative) in two iterations running"));
-  k.push_back(choice("continuum.dilatancy", "\"none\"", {"none", "phi_i", "auto"},
+  k.push_back(choice("continuum.dilatancy", "\"auto\"", {"none", "phi_i", "auto"},
                      "phi_i = the packing follows the calibrated Phi(I) of "
                      "continuum.rheology_file (or the calibration cache), floored at its "
                      "calibrated range's end: div(Phi u) = 0 and the weight rho Phi / phi_max g "
                      "(local mu(I), full gravity); none = incompressible at the case's bulk "
                      "density; auto = phi_i where the law is calibrated, the model local and "
-                     "gravity full, none elsewhere (docs/continuum-model.md, \"Dilatancy\": "
-                     "not the default, its fine meshes converge slowly)"));
+                     "gravity full, none elsewhere (the default: the law closest to the grains "
+                     "on the most rows of docs/crosscheck.md)"));
   k.push_back(real("continuum.nonlocal_relaxation", false, "1", 0, 1, true, false, "-",
                    "w of the Anderson mixing of log g between splitting iterations (the flow "
                    "step's local part is implicit; 0.2 and 0.5 settled more slowly on the demo)"));
