@@ -124,7 +124,13 @@ void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& sta
   for (unsigned int q = 0; q < nq; ++q) {
     const double JxW = fev.JxW(q);
     const double eta = out.viscosity[q];
-    const double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
+    double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
+    // along D the tangent is 2 (eta + eta_s D:D), the secant 2 eta: keep their ratio 1 - s
+    // at least tangent_floor_ (NonlinearSettings::tangent_floor)
+    if (newton && tangent_floor_ > 0 && eta > 0) {
+      const double s_soft = -eta_s * (sym[q] * sym[q]) / eta;
+      if (s_soft > 1 - tangent_floor_) eta_s *= (1 - tangent_floor_) / s_soft;
+    }
     const double eta_p = newton ? out.deta_dpressure[q] : 0.0;
     Vec2 f = setup_.body_force ? setup_.body_force(fev.quadrature_point(q)) : Vec2();
     const Vec2 f_dense = f;

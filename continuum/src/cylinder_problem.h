@@ -122,6 +122,9 @@ class CylinderProblem {
   /// > 0 (solve_next_level()'s approaches from an interpolated level): every stage's
   /// NonlinearSettings::stall_window, and the approach ends at its first failed stage
   int stall_window_ = 0;
+  /// NonlinearSettings::tangent_floor of the intermediate stages: > 0 only in
+  /// solve_from_carried()'s last approach (the whole continuation on a refined mesh)
+  double tangent_floor_ = 0;
   /// how the level just solved was reached (solve_from_carried(); 2 for level 0: the whole
   /// continuation from the far field), for LevelResult::approach
   int level_approach_ = 2;

@@ -111,6 +111,13 @@ struct NonlinearSettings {
   double absolute_tolerance = 1e-300;
   int max_iterations = 50;
   int picard_iterations = 5;
+  /// > 0: Newton's matrix keeps the tangent of the stress along the strain rate at least
+  /// tangent_floor times the secant viscosity's (the viscosity's derivative scaled down where
+  /// it would go lower): a saturating mu(I) makes that tangent 5-10% of the secant in the
+  /// flowing medium and nearly 0 near yield and at high I, which spoils the Newton direction
+  /// on fine meshes (docs/continuum-model.md, "Adaptive cycles to a stated error"). The
+  /// matrix is then not the exact Jacobian where the floor acts. 0: the exact Jacobian.
+  double tangent_floor = 0;
   /// > 0: give up (not converged, "stalled") once the last stall_window Newton steps' lengths
   /// have a geometric mean at or below stall_step (a Newton step redone as Picard counts as
   /// the line search's shortest, 1/1024): the line search keeps cutting the steps, and a
@@ -361,6 +368,7 @@ class FlowProblem {
   MatrixType schur_mass_;  ///< only the (p,p) block is used
   std::vector<std::vector<bool>> velocity_constant_modes_;
   NonlinearReport report_;
+  double tangent_floor_ = 0;  ///< NonlinearSettings::tangent_floor of the current solve
   mutable std::unique_ptr<dealii::GridTools::Cache<dim>> cache_;
   /// nodal consistent traction on the boundary traction_id_ (velocity dofs of all ranks)
   mutable std::map<dealii::types::global_dof_index, double> traction_;

@@ -33,6 +33,7 @@ struct FlowProblem::NonlinearStep {
 
 void FlowProblem::solve_nonlinear(const NonlinearSettings& nl) {
   NonlinearWork w{make_vector(), make_vector(), make_vector(), make_vector(), make_vector()};
+  tangent_floor_ = nl.tangent_floor;
   double r = assemble_system(solution_, false, false, w.res);
   report_.converged = false;
   report_.message.clear();

@@ -376,6 +376,7 @@ InclineResult incline_layer(const InclineSpec& s) {
   };
   setup.initial_pressure = [=](const Point2& x) { return Ptop + G * (h - x[1]); };
   use_tight_nonlinear_settings(setup);
+  setup.nonlinear.tangent_floor = s.tangent_floor;
   FlowProblem problem(tria, setup);
   problem.run();
 

@@ -107,6 +107,7 @@ struct InclineSpec {
   double bulk_density = 1500;   ///< kg/m^3
   double gravity = 9.81;        ///< m/s^2
   int cells_across = 16;        ///< cells through the depth
+  double tangent_floor = 0;     ///< Newton's tangent floor (0: the exact Jacobian)
   RheologyParams rheology;
 };
 struct InclineResult {
