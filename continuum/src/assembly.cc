@@ -124,11 +124,12 @@ void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& sta
   for (unsigned int q = 0; q < nq; ++q) {
     const double JxW = fev.JxW(q);
     const double eta = out.viscosity[q];
+    const SymmetricTensor<2, dim>& D = sym[q];
     double eta_s = newton ? out.deta_dstrain_sq[q] : 0.0;
     // along D the tangent is 2 (eta + eta_s D:D), the secant 2 eta: keep their ratio 1 - s
     // at least tangent_floor_ (NonlinearSettings::tangent_floor)
     if (newton && tangent_floor_ > 0 && eta > 0) {
-      const double s_soft = -eta_s * (sym[q] * sym[q]) / eta;
+      const double s_soft = -eta_s * (D * D) / eta;
       if (s_soft > 1 - tangent_floor_) eta_s *= (1 - tangent_floor_) / s_soft;
     }
     const double eta_p = newton ? out.deta_dpressure[q] : 0.0;
@@ -140,7 +141,6 @@ void FlowProblem::assemble_cell_volume(AssemblyScratch& s, const VectorType& sta
     if (dil) f *= 1 - delta;  // the dilated medium's weight
     const double source =
         setup_.continuity_source ? setup_.continuity_source(fev.quadrature_point(q)) : 0.0;
-    const SymmetricTensor<2, dim>& D = sym[q];
     const double div_u = trace(D);
     const Vec2 conv = inertia ? Vec2(grad[q] * uval[q]) : Vec2();
     for (unsigned int k = 0; k < dpc; ++k) {

@@ -115,7 +115,7 @@ struct NonlinearSettings {
   /// tangent_floor times the secant viscosity's (the viscosity's derivative scaled down where
   /// it would go lower): a saturating mu(I) makes that tangent 5-10% of the secant in the
   /// flowing medium and nearly 0 near yield and at high I, which spoils the Newton direction
-  /// on fine meshes (docs/continuum-model.md, "Adaptive cycles to a stated error"). The
+  /// on fine meshes (docs/continuum-model.md, "Newton's tangent floor"). The
   /// matrix is then not the exact Jacobian where the floor acts. 0: the exact Jacobian.
   double tangent_floor = 0;
   /// > 0: give up (not converged, "stalled") once the last stall_window Newton steps' lengths
