@@ -22,6 +22,7 @@ Expected behaviour, each checked:
 
 Usage: test_machine_faults_run.py GRAINLIFT_BINARY CASE_FILE
 """
+import errno
 import os
 import resource
 import shutil
@@ -54,15 +55,17 @@ def run(out, solver, sets, env=None, limit_bytes=None):
 
 def remove_folder_being_written(path):
     """Delete PATH as `rm -rf` does while a run writes into it: a temporary file the run
-    renames away between the listing and the unlink is not an error; go again until the
-    folder is gone."""
+    renames away between the listing and the unlink, or writes after the listing (the
+    folder is then not empty at its rmdir), is not an error; go again until the folder is
+    gone."""
     for _ in range(50):
         if not os.path.exists(path):
             return
         try:
             shutil.rmtree(path)
-        except FileNotFoundError:
-            continue
+        except OSError as err:
+            if err.errno not in (errno.ENOENT, errno.ENOTEMPTY):
+                raise
     raise AssertionError(path + " could not be removed while the run wrote into it")
 
 
