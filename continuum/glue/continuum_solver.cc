@@ -117,6 +117,7 @@ ContinuumConfig make_continuum_config(const Case& c, const std::string& out_dir)
                                                         {"auto", InertiaMode::automatic}});
   f.refinement = c.continuum.refinement;
   f.adaptive_cycles = c.continuum.adaptive_cycles;
+  f.wall_layers = c.continuum.wall_layers;
   f.nested = c.continuum.nested;
   f.nonlinear_tolerance = c.continuum.tolerance;
   f.max_nonlinear_iterations = c.continuum.max_iterations;

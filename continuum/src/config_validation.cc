@@ -115,6 +115,7 @@ void validate_config(const ContinuumConfig& c) {
   require(c.inertia_threshold >= 0, "inertia_threshold must be >= 0");
   require(c.refinement >= 0 && c.refinement <= 7, "refinement must be in [0, 7]");
   require(c.adaptive_cycles >= 0 && c.adaptive_cycles <= 5, "adaptive_cycles must be in [0, 5]");
+  require(c.wall_layers >= 0 && c.wall_layers <= 6, "wall_layers must be in [0, 6]");
   require(c.nonlinear_tolerance > 0 && c.nonlinear_tolerance < 1,
           "nonlinear_tolerance must be in (0, 1)");
   require(c.max_nonlinear_iterations >= 1, "max_nonlinear_iterations must be >= 1");

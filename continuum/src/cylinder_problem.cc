@@ -130,7 +130,8 @@ void CylinderProblem::say(const std::string& s) const {
 /// The box with the intruder's hole, finest at the intruder (see IntruderMesh).
 void CylinderProblem::make_mesh(int refinement) {
   mesh_ = std::make_unique<IntruderMesh>(R_, box_edges(config_), refinement,
-                                         config_.far_field == FarField::periodic);
+                                         config_.far_field == FarField::periodic,
+                                         config_.wall_layers);
 }
 
 /// The problem without gravity when it is linearised (the base state), with it otherwise; its

@@ -38,8 +38,8 @@ std::vector<double> padding_steps(double b, double pad) {
 }  // namespace
 
 IntruderMesh::IntruderMesh(double R, const std::array<double, 4>& box, int refinement,
-                           bool periodic_x)
-    : R_(R), box_(box) {
+                           bool periodic_x, int wall_layers)
+    : R_(R), box_(box), wall_layers_(wall_layers) {
   const double nearest = std::min({-box[0], box[1], -box[2], box[3]});
   b_ = std::min(2 * R, 0.5 * (R + nearest));
   if (MpiSession::size() == 1) {  // (MPI may not even be initialised)
@@ -91,8 +91,38 @@ void IntruderMesh::make_coarse(Triangulation<2>& tria) const {
   for (const auto& cell : outer.active_cell_iterators())
     if (in_block(cell->center())) central.insert(cell);
   GridGenerator::create_triangulation_with_removed_cells(outer, central, outer_holed);
-  GridGenerator::hyper_cube_with_cylindrical_hole(block, R_, b, 1.0, 1, false);
+  if (wall_layers_ == 0)
+    GridGenerator::hyper_cube_with_cylindrical_hole(block, R_, b, 1.0, 1, false);
+  else
+    make_ringed_block(block);
   GridGenerator::merge_triangulations(outer_holed, block, tria, 1e-9 * R_);
+}
+
+void IntruderMesh::make_ringed_block(Triangulation<2>& block) const {
+  // 8 points on each circle and on the square, at the square's corners and the middles of
+  // its sides (as hyper_cube_with_cylindrical_hole places them)
+  const int n = wall_layers_;
+  std::vector<Point2> vertices;
+  for (int j = 0; j <= n + 1; ++j)
+    for (int k = 0; k < 8; ++k) {
+      const double a = k * M_PI / 4, c = std::cos(a), s = std::sin(a);
+      const double r = j <= n ? ring_radius(j) : b_ / std::max(std::abs(c), std::abs(s));
+      vertices.emplace_back(r * c, r * s);
+    }
+  std::vector<CellData<2>> cells;
+  for (int j = 0; j <= n; ++j)
+    for (int k = 0; k < 8; ++k) {
+      CellData<2> cell;  // radial, then angular: positively oriented
+      cell.vertices = {unsigned(8 * j + k), unsigned(8 * (j + 1) + k),
+                       unsigned(8 * j + (k + 1) % 8), unsigned(8 * (j + 1) + (k + 1) % 8)};
+      cells.push_back(cell);
+    }
+  block.create_triangulation(vertices, cells, SubCellData());
+}
+
+double IntruderMesh::ring_radius(int j) const {
+  const double room = 0.5 * (b_ - R_);
+  return R_ + room * (std::pow(2.0, j) - 1) / (std::pow(2.0, wall_layers_) - 1);
 }
 
 void IntruderMesh::decorate(Triangulation<2>& tria) const {
@@ -101,6 +131,14 @@ void IntruderMesh::decorate(Triangulation<2>& tria) const {
   const double tol = 1e-6 * R_;
   for (const auto& cell : tria.active_cell_iterators())
     if (in_block(cell->center())) cell->set_all_manifold_ids(1);
+  if (wall_layers_ > 0) {  // the rings are polar: their cells, their circles, their spokes
+    const double r_out = ring_radius(wall_layers_) * (1 + 1e-9);
+    for (const auto& cell : tria.active_cell_iterators()) {
+      bool ring = true;
+      for (const unsigned int v : cell->vertex_indices()) ring &= cell->vertex(v).norm() < r_out;
+      if (ring) cell->set_all_manifold_ids(0);
+    }
+  }
   for (const auto& cell : tria.active_cell_iterators())
     for (const auto& face : cell->face_iterators()) {
       if (!face->at_boundary()) continue;
@@ -128,7 +166,7 @@ namespace grainlift::continuum {
 MeshOutline mesh_outline(const ContinuumConfig& config) {
   using internal::IntruderMesh;
   const double R = 0.5 * config.intruder_diameter;
-  IntruderMesh mesh(R, box_edges(config), config.refinement);
+  IntruderMesh mesh(R, box_edges(config), config.refinement, false, config.wall_layers);
   const dealii::Triangulation<2>& tria = mesh.tria();
   MeshOutline o;
   o.cells = static_cast<int>(tria.n_active_cells());

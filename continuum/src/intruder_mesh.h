@@ -43,19 +43,27 @@ class IntruderMesh {
   /// around the hole once more)
   /// @param periodic_x the left and right edges are identified (a distributed mesh is told
   /// before it is refined, so that p4est balances across them)
+  /// @param wall_layers rings of cells round the hole inside the block (make_ringed_block())
   IntruderMesh(double R, const std::array<double, 4>& box, int refinement,
-               bool periodic_x = false);
+               bool periodic_x = false, int wall_layers = 0);
   dealii::Triangulation<2>& tria() { return *tria_; }
 
  private:
   bool in_block(const Point2& x) const { return std::abs(x[0]) < b_ && std::abs(x[1]) < b_; }
   void make_coarse(dealii::Triangulation<2>& tria) const;
+  /// The block with wall_layers_ rings of 8 cells round the hole (polar manifold), then one
+  /// layer of 8 cells from the outermost circle to the square (transfinite interpolation).
+  void make_ringed_block(dealii::Triangulation<2>& block) const;
+  /// Radius of circle j = 0 ... wall_layers_ (0: the hole): the rings fill the inner half of
+  /// the room b - R, each twice as thick as the one inside it.
+  double ring_radius(int j) const;
   /// Boundary and manifold ids, the polar and transfinite-interpolation manifolds.
   void decorate(dealii::Triangulation<2>& tria) const;
 
   double R_;
   std::array<double, 4> box_;  ///< x0, x1, y0, y1
   double b_ = 0;
+  int wall_layers_ = 0;
   std::unique_ptr<dealii::Triangulation<2>> tria_;
 };
 

@@ -115,6 +115,7 @@ TEST(KeyDefaults, ContinuumConfigAgreesWithTheRegistry) {
   m.check("continuum.wall_friction", f.wall_friction, e.wall_friction);
   m.check("continuum.inertia", f.inertia, e.inertia);
   m.check("continuum.adaptive_cycles", f.adaptive_cycles, e.adaptive_cycles);
+  m.check("continuum.wall_layers", f.wall_layers, e.wall_layers);
   m.check("continuum.tolerance", f.nonlinear_tolerance, e.nonlinear_tolerance);
   m.check("continuum.max_iterations", f.max_nonlinear_iterations, e.max_nonlinear_iterations);
   m.check("continuum.picard_iterations", f.picard_iterations, e.picard_iterations);

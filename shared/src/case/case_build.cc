@@ -108,6 +108,7 @@ ContinuumSection read_continuum(const toml::table& r, const toml::table& root) {
   cn.open_length = get_vec2(r, "continuum.open_length");
   cn.refinement = int(get_int(r, "continuum.refinement"));
   cn.adaptive_cycles = int(get_int(r, "continuum.adaptive_cycles"));
+  cn.wall_layers = int(get_int(r, "continuum.wall_layers"));
   cn.target_error = get_real(r, "continuum.target_error");
   cn.nested = get_bool(r, "continuum.nested");
   cn.mesh_error_estimate = get_bool(r, "continuum.mesh_error_estimate");

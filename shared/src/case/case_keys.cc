@@ -256,6 +256,12 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
                       "refinement cycles after the (nested) levels: each refines the 30% of "
                       "the cells of largest Kelly indicator of the velocity (level jumps of at "
                       "most one; the same mesh on 1 and N MPI ranks); a target_error stops them"));
+  k.push_back(integer("continuum.wall_layers", "0", 0, 6,
+                      "rings of cells round the intruder, each twice as thick as the one "
+                      "inside it, in the inner half of the room between the intruder and the "
+                      "square block around it: the cells on the intruder 2 (2^n - 1) times "
+                      "thinner radially, where the forces' mesh error is (docs/continuum-"
+                      "model.md, \"Where the error of the forces is\"); 0: none"));
   k.push_back(boolean("continuum.nested", "true",
                       "nested iteration: the continuation in the regularisation runs on "
                       "refinement 0, each finer level starts from the interpolated coarser "

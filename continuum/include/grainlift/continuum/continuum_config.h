@@ -141,6 +141,9 @@ struct ContinuumConfig {
   // ---- numerics
   int refinement = 2;                   ///< global refinement level of the base mesh
   int adaptive_cycles = 0;
+  /// Rings of cells at the intruder, each twice as thick as the one inside it (IntruderMesh);
+  /// 0: the plain block.
+  int wall_layers = 0;
   /// Nested iteration: the continuation runs on refinement 0, each finer level up to
   /// `refinement` starts from the interpolated coarser solution and solves the final stage
   /// only (a level where that fails is solved again through the whole continuation from the

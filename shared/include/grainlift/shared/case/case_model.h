@@ -106,6 +106,7 @@ struct ContinuumSection {
   Vec2 open_length{};       ///< D upstream, downstream of the intruder's centre (open far field)
   int refinement{};
   int adaptive_cycles{};
+  int wall_layers{};
   double target_error{};        ///< relative force change that ends the nested levels (0: off)
   bool nested{};                ///< nested iteration from refinement 0
   bool mesh_error_estimate{};   ///< solve refinement - 1 first: the forces' mesh-error estimate
