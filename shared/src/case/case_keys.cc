@@ -244,6 +244,10 @@ void add_continuum_keys(std::vector<KeySpec>& k) {
   k.push_back(vec2("continuum.open_length", false, "[8.0, 8.0]", 1, 1e3, "D",
                    "open far field: the FE box's length upstream and downstream of the "
                    "intruder's centre, in intruder diameters"));
+}
+
+/// [continuum], the mesh and the solver
+void add_continuum_solver_keys(std::vector<KeySpec>& k) {
   k.push_back(integer("continuum.refinement", "4", 0, 7,
                       "mesh level (each quarters the cells): the finest allowed with a target "
                       "error; stated without one, the level solved; unstated with nested = "
@@ -339,6 +343,7 @@ std::vector<KeySpec> make_keys() {
   add_contact_keys(k);
   add_dem_keys(k);
   add_continuum_keys(k);
+  add_continuum_solver_keys(k);
   add_nonlocal_keys(k);
   add_output_keys(k);
   return k;
