@@ -223,6 +223,15 @@ TEST(FemMpi, PeriodicBoxUnderALidOnTwoRanksGivesTheOneRankSolution) {
                                                   " --set continuum.adaptive_cycles=1");
 }
 
+// continuum.wall_layers builds its rings into the coarse mesh, which p4est then refines: the
+// same cells and the one-rank solution on two ranks (the periodic box, whose ends p4est
+// balances, where the rings meet the transfinite block).
+TEST(FemMpi, WallLayersOnTwoRanksGiveTheOneRankSolution) {
+  if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
+  expect_two_ranks_match_one("wall_layers", " --set continuum.wall_layers=2"
+                                            " --set continuum.far_field='\"periodic\"'");
+}
+
 TEST(FemMpi, LinearisedGravityOnTwoRanksGivesTheOneRankSolution) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   expect_two_ranks_match_one("linearised", " --set scene.gravity=[0.0,-9.81]"
