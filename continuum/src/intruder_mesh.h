@@ -23,7 +23,9 @@ constexpr dealii::types::boundary_id kLeft = 0, kRight = 1, kBottom = 2, kTop = 
 /// however far each edge is. Boundary ids: 0 x = x0, 1 x = x1, 2 y = y0, 3 y = y1, 4 the hole
 /// (kLeft ... kHole). The left and right edges carry the same y nodes (one tensor grid), so
 /// they match as periodic faces. After @p refinement global refinements the block is refined
-/// once more (the mesh is finest at the intruder).
+/// once more (the mesh is finest at the intruder). With wall_layers = n > 0 the block's 8 cells
+/// become n polar rings of 8 cells at the hole, each twice as thick as the one inside it, and
+/// 8 cells from the outermost ring to the square (continuum.wall_layers).
 ///
 /// One MPI rank: a serial Triangulation. Several: a parallel::distributed::Triangulation (p4est)
 /// made from the vertices and cells of the same coarse mesh; the ids and the manifolds are then
