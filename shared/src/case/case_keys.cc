@@ -265,7 +265,7 @@ void add_continuum_solver_keys(std::vector<KeySpec>& k) {
                       "inside it, in the inner half of the room between the intruder and the "
                       "square block around it: the cells on the intruder 2 (2^n - 1) times "
                       "thinner radially, where the forces' mesh error is (docs/continuum-"
-                      "model.md, \"Where the error of the forces is\"); 0: none"));
+                      "model.md, \"Wall layers\"); 0: none"));
   k.push_back(boolean("continuum.nested", "true",
                       "nested iteration: the continuation in the regularisation runs on "
                       "refinement 0, each finer level starts from the interpolated coarser "
