@@ -51,7 +51,7 @@ std::vector<SolverEntry> pick_solvers(const std::string& which) {
     }
     out.push_back(*it);
   }
-  return out;
+  return start_solvers(std::move(out));
 }
 
 std::string default_out_dir(const std::string& case_path) {

@@ -53,6 +53,10 @@ int main_with_args(int argc, char** argv);
 
 /// The solvers compiled into this binary (solver_table.cc).
 std::vector<SolverEntry> available_solvers();
+/// Loads what @p picked need before the first of them runs (the continuum's module and MPI),
+/// so that no solver's time includes it, and returns them; throws RunError when the module
+/// cannot be loaded.
+std::vector<SolverEntry> start_solvers(std::vector<SolverEntry> picked);
 
 /// Rank and number of processes of an MPI run (0 and 1 without MPI; solver_table.cc).
 int process_rank();

@@ -1,12 +1,12 @@
-// Which solvers this build has. Each module contributes one SolverEntry.
+// Which solvers this build has. Each module contributes one SolverEntry; the continuum's is
+// loaded on its first run (fem_module_loader.h).
 #include "commands.h"
 
 #ifdef GRAINLIFT_HAVE_DEM
 #include "grainlift/dem/dem_solver.h"
 #endif
 #ifdef GRAINLIFT_HAVE_FEM
-#include "grainlift/continuum/continuum_solver.h"
-#include "grainlift/continuum/mpi_session.h"
+#include "fem_module_loader.h"
 #endif
 
 namespace grainlift::app {
@@ -17,36 +17,49 @@ std::vector<SolverEntry> available_solvers() {
   s.push_back(dem::solver_entry());
 #endif
 #ifdef GRAINLIFT_HAVE_FEM
-  s.push_back(continuum::solver_entry());
+  SolverEntry fem;
+  fem.name = "fem";
+  fem.description = "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
+  fem.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
+    const continuum::FemModule& m = fem_module();
+    m.start_mpi(nullptr, nullptr);  // normally done already (start_solvers, main.cc)
+    return m.solver_entry().run(c, opt, progress);
+  };
+  s.push_back(std::move(fem));
 #endif
   return s;
 }
 
+std::vector<SolverEntry> start_solvers(std::vector<SolverEntry> picked) {
+#ifdef GRAINLIFT_HAVE_FEM
+  for (const SolverEntry& e : picked)
+    if (e.name == "fem") fem_module().start_mpi(nullptr, nullptr);
+#endif
+  return picked;
+}
+
 int process_rank() {
 #ifdef GRAINLIFT_HAVE_FEM
-  return continuum::MpiSession::rank();
-#else
-  return 0;
+  if (const continuum::FemModule* m = fem_module_if_loaded()) return m->rank();
 #endif
+  return 0;
 }
 
 int process_count() {
 #ifdef GRAINLIFT_HAVE_FEM
-  return continuum::MpiSession::size();
-#else
-  return 1;
+  if (const continuum::FemModule* m = fem_module_if_loaded()) return m->size();
 #endif
+  return 1;
 }
 
 bool failed_on_every_rank(const std::string& what, int code) {
 #ifdef GRAINLIFT_HAVE_FEM
-  return continuum::MpiSession::all_ranks_failed(continuum::MpiSession::FailureSite::command,
-                                                 what, code);
-#else
+  if (const continuum::FemModule* m = fem_module_if_loaded())
+    return m->all_ranks_failed(what, code);
+#endif
   (void)what;
   (void)code;
   return true;
-#endif
 }
 
 }  // namespace grainlift::app

@@ -152,6 +152,8 @@ TEST(Report, HeadlessChromiumLoadsThePage) {
 // `cmake --install BUILD --prefix DIR` gives a DIR/bin/grainlift whose `report` runs the script
 // installed in DIR/share/grainlift, not the source tree's: a sentinel report.py put there must
 // be the one that runs; then the real one, restored, writes report.html from the installed tree.
+// Its continuum runs with the module installed in DIR/lib/grainlift (the loader's log names that
+// file), not the build tree's.
 TEST(Install, ReportRunsFromThePrefix) {
   const fs::path build = fs::path(GRAINLIFT_BINARY).parent_path().parent_path();
   const fs::path prefix = scratch() / "prefix";
@@ -176,4 +178,15 @@ TEST(Install, ReportRunsFromThePrefix) {
   const auto rep = run_command("'" + g.string() + "' report '" + run.string() + "'");
   EXPECT_EQ(rep.code, 0) << rep.output;
   EXPECT_GT(fs::file_size(run / "report.html"), 0u);
+
+  const fs::path module = prefix / "lib" / "grainlift" / "grainlift_fem.so";
+  ASSERT_TRUE(fs::is_regular_file(module)) << module << " not installed";
+  const auto fem = run_command("LD_DEBUG=files '" + g.string() + "' run '" +
+                               std::string(GRAINLIFT_SOURCE_DIR) +
+                               "/cases/demo/demo.toml' --solver fem --quiet --set "
+                               "continuum.target_error=0 --set continuum.refinement=0 --out '" +
+                               (scratch() / "install_fem").string() + "'");
+  EXPECT_EQ(fem.code, 0) << fem.output.substr(0, 2000);
+  EXPECT_NE(fem.output.find("file=" + module.string()), std::string::npos)
+      << "the installed grainlift did not load " << module;
 }
