@@ -209,7 +209,7 @@ TEST(ContactLaw, BatchGivesTheBitsOfContactForce) {
     SCOPED_TRACE(target);
     ASSERT_TRUE(gd::set_simd_target(target));
     batch_matches_contact_force();
-    std::printf("%s: contact_force_batch vectorised for Kumar's law: %s\n", target.c_str(),
+    std::printf("%s: contact_force_batch vectorised: %s\n", target.c_str(),
                 gd::contact_force_batch_vectorized(gd::LawCoefficients::from(gd::ContactParams{}))
                     ? "yes"
                     : "no");
@@ -278,16 +278,15 @@ struct PairBed {
 };
 }  // namespace
 
-// The touching pairs' kinematics and Kumar's law a vector of pairs at a time
-// (kumar_pair_lanes, every SIMD target this CPU runs) give, pair by pair, the bits of the
+// The touching pairs' kinematics and the law (Kumar's and Guillard's) a vector of pairs at a
+// time (pair_lanes, every SIMD target this CPU runs) give, pair by pair, the bits of the
 // scalar PairInputs::of() followed by contact_force(): normal, overlap, advanced spring and
 // forces, on pairs across the periodic box's edges and with wall rows, whose owners are
 // consecutive (one load permuted) or far apart (one load per lane), r_eff and m_eff from the
 // list or from the radii, in batches of 32, 13 and 1; and the largest overlap fraction is the
 // scalar loop's, delta / (2 min(r_i, r_j)). Tolerance: none (the same bits).
-TEST(ContactLaw, PairLanesGiveTheBitsOfTheScalarKinematicsAndLaw) {
+static void pair_lanes_match_the_scalar_code(const gd::LawCoefficients& law) {
   const PairBed bed(2026);
-  const auto law = gd::LawCoefficients::from(gd::ContactParams{});
   auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
   std::vector<std::int64_t> all(bed.owner.size()), strided;
   for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<std::int64_t>(k);
@@ -311,7 +310,7 @@ TEST(ContactLaw, PairLanesGiveTheBitsOfTheScalarKinematicsAndLaw) {
             }
             gd::ContactBatch cb{};
             double max_ov = 0.0;
-            const std::size_t done = gd::kumar_pair_lanes(in, law, 0.5, kb, ddx.data(), ddy.data(),
+            const std::size_t done = gd::pair_lanes(in, law, 0.5, kb, ddx.data(), ddy.data(),
                                                           nb, bed.sx.data(), bed.sy.data(), cb,
                                                           max_ov);
             if (target == "scalar") {
@@ -348,4 +347,13 @@ TEST(ContactLaw, PairLanesGiveTheBitsOfTheScalarKinematicsAndLaw) {
   }
   std::printf("vector targets: %d\n", vector_targets);
   gd::set_simd_target(before);
+}
+
+TEST(ContactLaw, PairLanesGiveTheBitsOfTheScalarKinematicsAndLaw) {
+  gd::ContactParams guillard;
+  guillard.law = gd::ContactLaw::guillard2014;
+  for (const gd::ContactParams& p : {gd::ContactParams{}, guillard}) {
+    SCOPED_TRACE(p.law == gd::ContactLaw::kumar2019 ? "kumar2019" : "guillard2014");
+    pair_lanes_match_the_scalar_code(gd::LawCoefficients::from(p));
+  }
 }

@@ -196,12 +196,13 @@ TEST(Simulation, SameSeedGivesSameForcesWithAnyThreadCount) {
   std::filesystem::remove_all(c.packing_cache_dir);
 }
 
-// The vector loops of the step (pair screen, kick and drift, Kumar's law) give the bits of
+// The vector loops of the step (pair screen, kick and drift, the contact law) give the bits of
 // the scalar code on every SIMD target this build and CPU run (avx2 and avx512 on a recent x86,
 // neon or sve on Arm): the same run with each target and with the vector loops forbidden, on
 // 1 and 2 threads, gives the same intruder samples, on two beds periodic in x, one boxed in by
-// four walls and one periodic both ways (the loops have a copy per periodicity). Tolerance:
-// exact equality. (Without a vector target only the scalar runs are made.)
+// four walls and one periodic both ways (the loops have a copy per periodicity), with Kumar's
+// law, and one bed with Guillard's. Tolerance: exact equality. (Without a vector target only
+// the scalar runs are made.)
 TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
   auto plain = short_seeded_case("simd");
   auto longer = longer_small_case("simd_longer");
@@ -211,14 +212,19 @@ TEST(Simulation, VectorKernelsGiveTheBitsOfTheScalarCode) {
   auto periodic = longer_small_case("simd_periodic");
   periodic.periodic_y = true;
   periodic.wall_top = periodic.wall_bottom = false;
+  auto guillard = longer_small_case("simd_guillard");
+  guillard.contact.law = gd::ContactLaw::guillard2014;
+  guillard.contact.youngs_modulus = 5e9;  // as stiff as Kumar's grains at their dt and speed
   const std::string before = gd::simd_target();
   std::vector<std::string> targets = gd::runnable_simd_targets();
   targets.erase(targets.begin());  // "scalar", the reference
   std::printf("vector targets on this CPU: %zu\n", targets.size());
-  for (gd::DemConfig* c : {&plain, &longer, &walled, &periodic}) {
-    SCOPED_TRACE(c == &plain ? "60 d x 40 d" : c == &longer ? "30 d x 20 d" : c == &walled
-                                                                  ? "walled"
-                                                                  : "periodic x and y");
+  for (gd::DemConfig* c : {&plain, &longer, &walled, &periodic, &guillard}) {
+    SCOPED_TRACE(c == &plain      ? "60 d x 40 d"
+                 : c == &longer   ? "30 d x 20 d"
+                 : c == &walled   ? "walled"
+                 : c == &periodic ? "periodic x and y"
+                                  : "Guillard's law");
     for (int threads : {1, 2}) {
       c->threads = threads;
       gd::set_vector_kernels(false);

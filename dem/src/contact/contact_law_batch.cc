@@ -1,8 +1,8 @@
 // contact_force() on a batch of contacts (contact_law_batch.h), one source for every SIMD
-// target: Kumar's law as contact_lanes() (contact_lanes-inl.h) instantiated for a lane type
+// target: either law as contact_lanes() (contact_lanes-inl.h) instantiated for a lane type
 // of the target Highway's dynamic dispatch calls (step/simd_target.h), contact_force() lane by
-// lane otherwise (Guillard's law, the scalar target, and SVE, whose vectors have no size that
-// a lane type could hold). Compiled with -ffp-contract=off (dem/CMakeLists.txt): every lane
+// lane otherwise (the scalar target, and SVE, whose vectors have no size that a lane type
+// could hold). Compiled with -ffp-contract=off (dem/CMakeLists.txt): every lane
 // gives the bits of contact_force().
 #include "grainlift/dem/contact/contact_law_batch.h"
 
@@ -137,9 +137,9 @@ HWY_INLINE void pair_kinematics(const PairInputs& in, const Owner& si, const Gat
 
 }  // namespace
 
-std::size_t KumarLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n);
+std::size_t LawLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n);
 
-std::size_t KumarPairLanes(const PairInputs& in, const LawCoefficients& c, double mu,
+std::size_t PairLanes(const PairInputs& in, const LawCoefficients& c, double mu,
                            const std::int64_t* kb, const double* dxa, const double* dya,
                            std::size_t nb, const double* sxa, const double* sya,
                            ContactBatch& b, double& max_ov) {
@@ -187,12 +187,12 @@ std::size_t KumarPairLanes(const PairInputs& in, const LawCoefficients& c, doubl
   }
   // the law on the whole batch: the vectors' long chains of square roots and divisions
   // overlap (one vector of pairs through kinematics and law at once did not gain)
-  KumarLanes(c, mu, b, nb);
+  LawLanes(c, mu, b, nb);
   max_ov = hn::GetLane(hn::MaxOfLanes(d, best));
   return nb;
 }
 
-std::size_t KumarLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {
+std::size_t LawLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {
   const Lanes vmu(mu);
   const std::size_t lanes = hn::Lanes(D());
   for (std::size_t l = 0; l < n; l += lanes) {
@@ -202,8 +202,8 @@ std::size_t KumarLanes(const LawCoefficients& c, double mu, ContactBatch& b, std
     LaneMask slipping;
     // this target's copies of the law (qualified: the double's copies in grainlift::dem would
     // be found too through LawCoefficients)
-    HWY_NAMESPACE::kumar_prefactors(c, load(b.r_eff + l), delta, load(b.m_eff + l), an, bn, at,
-                                    bt);
+    HWY_NAMESPACE::prefactors_of_law(c, load(b.r_eff + l), delta, load(b.m_eff + l), an, bn, at,
+                                     bt);
     HWY_NAMESPACE::contact_lanes(nx, ny, delta, load(b.vn + l), load(b.vtx + l),
                                  load(b.vty + l), load(b.dsx + l), load(b.dsy + l), an, bn, at,
                                  bt, vmu, sx, sy, fn, ftx, fty, slipping);
@@ -217,16 +217,16 @@ std::size_t KumarLanes(const LawCoefficients& c, double mu, ContactBatch& b, std
   return n;
 }
 
-std::size_t KumarLaneCount() { return hn::Lanes(D()); }
+std::size_t LawLaneCount() { return hn::Lanes(D()); }
 #else
 // no lane type here: contact_force() lane by lane does the batch
-std::size_t KumarLanes(const LawCoefficients&, double, ContactBatch&, std::size_t) { return 0; }
-std::size_t KumarPairLanes(const PairInputs&, const LawCoefficients&, double,
+std::size_t LawLanes(const LawCoefficients&, double, ContactBatch&, std::size_t) { return 0; }
+std::size_t PairLanes(const PairInputs&, const LawCoefficients&, double,
                            const std::int64_t*, const double*, const double*, std::size_t,
                            const double*, const double*, ContactBatch&, double&) {
   return 0;
 }
-std::size_t KumarLaneCount() { return 0; }
+std::size_t LawLaneCount() { return 0; }
 #endif
 
 }  // namespace HWY_NAMESPACE
@@ -236,27 +236,24 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace grainlift::dem {
 
-HWY_EXPORT(KumarLanes);
-HWY_EXPORT(KumarLaneCount);
-HWY_EXPORT(KumarPairLanes);
+HWY_EXPORT(LawLanes);
+HWY_EXPORT(LawLaneCount);
+HWY_EXPORT(PairLanes);
 
-bool contact_force_batch_vectorized(const LawCoefficients& c) {
-  return c.law == ContactLaw::kumar2019 && detail::vector_enabled() &&
-         HWY_DYNAMIC_DISPATCH(KumarLaneCount)() > 0;
+bool contact_force_batch_vectorized(const LawCoefficients&) {
+  return detail::vector_enabled() && HWY_DYNAMIC_DISPATCH(LawLaneCount)() > 0;
 }
 
-std::size_t kumar_pair_lanes(const PairInputs& in, const LawCoefficients& law, double mu,
-                             const std::int64_t* kb, const double* dx, const double* dy,
-                             std::size_t nb, const double* sx, const double* sy,
-                             ContactBatch& out, double& max_ov) {
-  if (law.law != ContactLaw::kumar2019 || !detail::vector_enabled()) return 0;
-  return HWY_DYNAMIC_DISPATCH(KumarPairLanes)(in, law, mu, kb, dx, dy, nb, sx, sy, out, max_ov);
+std::size_t pair_lanes(const PairInputs& in, const LawCoefficients& law, double mu,
+                       const std::int64_t* kb, const double* dx, const double* dy, std::size_t nb,
+                       const double* sx, const double* sy, ContactBatch& out, double& max_ov) {
+  if (!detail::vector_enabled()) return 0;
+  return HWY_DYNAMIC_DISPATCH(PairLanes)(in, law, mu, kb, dx, dy, nb, sx, sy, out, max_ov);
 }
 
 void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n) {
   std::size_t done = 0;
-  if (c.law == ContactLaw::kumar2019 && detail::vector_enabled())
-    done = HWY_DYNAMIC_DISPATCH(KumarLanes)(c, mu, b, n);
+  if (detail::vector_enabled()) done = HWY_DYNAMIC_DISPATCH(LawLanes)(c, mu, b, n);
   for (std::size_t l = done; l < n; ++l) {
     ContactForce f;
     contact_force(c, b.kinematics(l, mu), b.sx[l], b.sy[l], f);

@@ -193,7 +193,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
     const double* dxb = touch_list.dx.data() + b0;
     const double* dyb = touch_list.dy.data() + b0;
     const bool lanes =
-        !normal_only && kumar_pair_lanes(in, law, mu, kb, dxb, dyb, nb, sx, sy, cb, max_ov) > 0;
+        !normal_only && pair_lanes(in, law, mu, kb, dxb, dyb, nb, sx, sy, cb, max_ov) > 0;
     if (!lanes) {
       fill_batch(in, law, normal_only, kb, dxb, dyb, nb, sx, sy, cb);
       if (!normal_only) contact_force_batch(law, mu, cb, nb);

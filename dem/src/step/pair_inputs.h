@@ -44,17 +44,16 @@ struct PairInputs {
   }
 };
 
-/// @brief Kumar's law on the @p nb touching pairs @p kb (in increasing order) with the
+/// @brief The contact law on the @p nb touching pairs @p kb (in increasing order) with the
 /// Coulomb coefficient @p mu, a vector of pairs at a time: their kinematics (PairInputs::of)
 /// from the arrays and their minimum-image separations @p dx, @p dy (the pair screen's), the
 /// springs read from @p sx, @p sy, then contact_lanes(). Fills lanes
 /// [0, nb) of @p out's nx, ny, delta, sx, sy (the advanced springs), fx, fy, ftx, fty with the
 /// bits of PairInputs::of followed by contact_force(), and raises @p max_ov to the pairs'
 /// largest overlap fraction as raise_max_overlap() would. Returns nb, or 0 (nothing done) where
-/// there is no vector loop for it (another law, the scalar target, GRAINLIFT_SIMD=scalar).
-std::size_t kumar_pair_lanes(const PairInputs& in, const LawCoefficients& law, double mu,
-                             const std::int64_t* kb, const double* dx, const double* dy,
-                             std::size_t nb, const double* sx, const double* sy,
-                             ContactBatch& out, double& max_ov);
+/// there is no vector loop for it (the scalar target, GRAINLIFT_SIMD=scalar).
+std::size_t pair_lanes(const PairInputs& in, const LawCoefficients& law, double mu,
+                       const std::int64_t* kb, const double* dx, const double* dy, std::size_t nb,
+                       const double* sx, const double* sy, ContactBatch& out, double& max_ov);
 
 }  // namespace grainlift::dem

@@ -20,6 +20,35 @@ inline void kumar_prefactors(const LawCoefficients& c, const T& r_eff, const T& 
   bt = m_eff * T(c.gamma_t) * root;
 }
 
+/// Guillard 2014 eq. (A1) with Table I prefactors: kn* = (2/3) E/(1-nu^2) sqrt(R_eff),
+/// kt* = 3(1-nu)/(2-nu) kn*; A_n = kn* sqrt(delta), A_t = kt* sqrt(delta),
+/// B_n = sqrt(5) |beta| sqrt(kn* m_eff) delta^(1/4), B_t = sqrt(10/3) |beta| sqrt(kt* m_eff)
+/// delta^(1/4).
+template <class T>
+inline void guillard_prefactors(const LawCoefficients& c, const T& r_eff, const T& delta,
+                                const T& m_eff, T& an, T& bn, T& at, T& bt) {
+  using lane::sqrt_of;
+  const T sd = sqrt_of(delta);
+  const T qd = sqrt_of(sd);  // delta^(1/4)
+  const T kns = T(c.hertz_kn_factor) * sqrt_of(r_eff);
+  const T kts = T(c.hertz_kt_ratio) * kns;
+  an = kns * sd;
+  at = kts * sd;
+  bn = T(std::sqrt(5.0) * c.hertz_beta) * sqrt_of(kns * m_eff) * qd;
+  bt = T(std::sqrt(10.0 / 3.0) * c.hertz_beta) * sqrt_of(kts * m_eff) * qd;
+}
+
+/// The prefactors A_n, B_n, A_t, B_t of the law @p c names, for any lane type. The names in
+/// parentheses: this copy's functions, not the double's that LawCoefficients would bring in.
+template <class T>
+inline void prefactors_of_law(const LawCoefficients& c, const T& r_eff, const T& delta,
+                              const T& m_eff, T& an, T& bn, T& at, T& bt) {
+  if (c.law == ContactLaw::kumar2019)
+    (kumar_prefactors)(c, r_eff, delta, m_eff, an, bn, at, bt);
+  else
+    (guillard_prefactors)(c, r_eff, delta, m_eff, an, bn, at, bt);
+}
+
 /// The law once, for any lane type T (a double, or a vector of independent contacts whose
 /// `if`s become lane masks): the spring (sx, sy) rotated into the contact plane and advanced,
 /// F_n = A_n delta - B_n v_n, F_t = -(A_t s + B_t v_t) limited to mu |F_n| with the spring

@@ -65,7 +65,7 @@ inline bool any(bool m) { return m; }
 inline double select(bool m, double a, double b) { return m ? a : b; }
 }  // namespace lane
 
-// kumar_prefactors() and contact_lanes(), the law for any lane type: in this namespace for a
+// the laws' prefactors and contact_lanes(), the law for any lane type: in this namespace for a
 // double, and again in each SIMD target's namespace for its vector lanes (contact_law_batch.cc)
 #include "grainlift/dem/contact/contact_lanes-inl.h"
 
@@ -105,18 +105,7 @@ struct ContactForce {
 /// The prefactors A_n, B_n, A_t, B_t of either law for one contact.
 inline void law_prefactors(const LawCoefficients& c, double r_eff, double delta, double m_eff,
                            double& an, double& bn, double& at, double& bt) {
-  if (c.law == ContactLaw::kumar2019) {
-    kumar_prefactors(c, r_eff, delta, m_eff, an, bn, at, bt);
-  } else {
-    const double sd = std::sqrt(delta);
-    const double qd = std::sqrt(sd);  // delta^(1/4)
-    const double kns = c.hertz_stiffness(r_eff);
-    const double kts = c.hertz_kt_ratio * kns;
-    an = kns * sd;
-    at = kts * sd;
-    bn = std::sqrt(5.0) * c.hertz_beta * std::sqrt(kns * m_eff) * qd;
-    bt = std::sqrt(10.0 / 3.0) * c.hertz_beta * std::sqrt(kts * m_eff) * qd;
-  }
+  prefactors_of_law(c, r_eff, delta, m_eff, an, bn, at, bt);
 }
 
 /// @brief The normal force F_n = A_n delta - B_n v_n of a contact (positive repulsive): with

@@ -1,8 +1,7 @@
 // The contact law on a batch of independent contacts, structure of arrays. The law itself is
 // written once, as contact_lanes() (contact_lanes-inl.h): here it runs on as many contacts
-// per instruction as the SIMD target has lanes (Kumar's law; Highway's dispatch, the lane type
-// in contact_law_batch.cc), and as contact_force() lane by lane otherwise (Guillard's law, the
-// scalar target). The bits are those of contact_force(): the same IEEE operations lane by
+// per instruction as the SIMD target has lanes (either law; Highway's dispatch, the lane type
+// in contact_law_batch.cc), and as contact_force() lane by lane otherwise (the scalar target). The bits are those of contact_force(): the same IEEE operations lane by
 // lane in the same order, branches as masks, no fused multiply-add.
 #pragma once
 
@@ -61,8 +60,8 @@ struct ContactBatch {
 /// coefficient mu; the springs advanced in place.
 void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n);
 
-/// @brief Whether contact_force_batch has a vector loop for this law on this CPU
-/// (AVX-512F, not disabled by the environment variable GRAINLIFT_NO_SIMD).
+/// @brief Whether contact_force_batch has a vector loop for this law on this CPU (a SIMD
+/// target with lanes of doubles in use, not GRAINLIFT_SIMD=scalar); the same for both laws.
 bool contact_force_batch_vectorized(const LawCoefficients& c);
 
 }  // namespace grainlift::dem
