@@ -1,8 +1,9 @@
 // The contact law on a batch of independent contacts, structure of arrays. The law itself is
 // written once, as contact_lanes() (contact_lanes-inl.h): here it runs on as many contacts
 // per instruction as the SIMD target has lanes (either law; Highway's dispatch, the lane type
-// in contact_law_batch.cc), and as contact_force() lane by lane otherwise (the scalar target). The bits are those of contact_force(): the same IEEE operations lane by
-// lane in the same order, branches as masks, no fused multiply-add.
+// in contact_law_batch.cc), and as contact_force() lane by lane otherwise (the scalar
+// target). The bits are those of contact_force(): the same IEEE operations lane by lane in the
+// same order, branches as masks, no fused multiply-add.
 #pragma once
 
 #include <cstddef>
