@@ -19,7 +19,7 @@ std::vector<SolverEntry> available_solvers() {
 #ifdef GRAINLIFT_HAVE_FEM
   SolverEntry fem;
   fem.name = "fem";
-  fem.description = "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
+  fem.description = continuum::kFemSolverDescription;
   fem.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
     const continuum::FemModule& m = fem_module();
     m.start_mpi(nullptr, nullptr);  // normally done already (start_solvers, main.cc)

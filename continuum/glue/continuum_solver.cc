@@ -14,6 +14,7 @@
 
 #include "continuum_box.h"
 #include "grainlift/continuum/errors.h"
+#include "grainlift/continuum/fem_module.h"
 #include "grainlift/continuum/solver.h"
 #include "grainlift/shared/run/interrupt.h"
 #include "grainlift/shared/case/case_geometry.h"
@@ -369,7 +370,7 @@ std::string out_of_memory_sentence(const std::string& what, const ContinuumConfi
 SolverEntry solver_entry() {
   SolverEntry e;
   e.name = "fem";
-  e.description = "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
+  e.description = kFemSolverDescription;
   e.run = [](const Case& c, const RunOptions& opt, ProgressReporter& progress) {
     ContinuumConfig cfg = make_continuum_config(c, opt.out_dir);
     // Ctrl-C / SIGTERM (interrupt.h): no further refinement; the last converged mesh is the

@@ -17,6 +17,10 @@ namespace grainlift::continuum {
 /// Changed whenever FemModule changes: a module of another version is refused by name.
 inline constexpr int kFemModuleVersion = 1;
 
+/// The "fem" solver's one-line description (its SolverEntry, in the module and in the command).
+inline constexpr const char* kFemSolverDescription =
+    "finite-element mu(I) continuum (deal.II, Taylor-Hood Q2-Q1)";
+
 /// What the module gives the command: the "fem" solver entry and the process's MPI session.
 struct FemModule {
   int version = kFemModuleVersion;
