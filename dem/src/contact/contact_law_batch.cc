@@ -2,8 +2,8 @@
 // target: either law as contact_lanes() (contact_lanes-inl.h) instantiated for a lane type
 // of the target Highway's dynamic dispatch calls (step/simd_target.h), contact_force() lane by
 // lane otherwise (the scalar target, and SVE, whose vectors have no size that a lane type
-// could hold). Compiled with -ffp-contract=off (dem/CMakeLists.txt): every lane
-// gives the bits of contact_force().
+// could hold). Compiled with -ffp-contract=off (dem/CMakeLists.txt): every lane gives the bits
+// of contact_force().
 #include "grainlift/dem/contact/contact_law_batch.h"
 
 #include "step/pair_inputs.h"
@@ -140,9 +140,9 @@ HWY_INLINE void pair_kinematics(const PairInputs& in, const Owner& si, const Gat
 std::size_t LawLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n);
 
 std::size_t PairLanes(const PairInputs& in, const LawCoefficients& c, double mu,
-                           const std::int64_t* kb, const double* dxa, const double* dya,
-                           std::size_t nb, const double* sxa, const double* sya,
-                           ContactBatch& b, double& max_ov) {
+                      const std::int64_t* kb, const double* dxa, const double* dya,
+                      std::size_t nb, const double* sxa, const double* sya, ContactBatch& b,
+                      double& max_ov) {
   const D d;
   hn::Vec<D> best = hn::Set(d, max_ov);
   const hn::RebindToSigned<D> di;
@@ -221,9 +221,9 @@ std::size_t LawLaneCount() { return hn::Lanes(D()); }
 #else
 // no lane type here: contact_force() lane by lane does the batch
 std::size_t LawLanes(const LawCoefficients&, double, ContactBatch&, std::size_t) { return 0; }
-std::size_t PairLanes(const PairInputs&, const LawCoefficients&, double,
-                           const std::int64_t*, const double*, const double*, std::size_t,
-                           const double*, const double*, ContactBatch&, double&) {
+std::size_t PairLanes(const PairInputs&, const LawCoefficients&, double, const std::int64_t*,
+                      const double*, const double*, std::size_t, const double*, const double*,
+                      ContactBatch&, double&) {
   return 0;
 }
 std::size_t LawLaneCount() { return 0; }
