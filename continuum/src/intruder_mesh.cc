@@ -131,7 +131,10 @@ void IntruderMesh::decorate(Triangulation<2>& tria) const {
   const double tol = 1e-6 * R_;
   for (const auto& cell : tria.active_cell_iterators())
     if (in_block(cell->center())) cell->set_all_manifold_ids(1);
-  if (wall_layers_ > 0) {  // the rings are polar: their cells, their circles, their spokes
+  // the rings are polar: their cells, their circles, their spokes. A second pass, after the
+  // block's: the circle between the outermost ring and the block's outer cells must end up polar
+  // whichever cell is visited last (one pass setting each cell's ids gave other meshes)
+  if (wall_layers_ > 0) {
     const double r_out = ring_radius(wall_layers_) * (1 + 1e-9);
     for (const auto& cell : tria.active_cell_iterators()) {
       bool ring = true;
