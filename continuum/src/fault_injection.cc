@@ -21,4 +21,12 @@ void bad_alloc_here_if_requested(int level) {
     throw std::bad_alloc();
 }
 
+double failure_wait_seconds(double usual) {
+  const char* s = std::getenv("GRAINLIFT_TEST_FAILURE_WAIT_SECONDS");
+  if (!s || !*s) return usual;
+  char* end = nullptr;
+  const double v = std::strtod(s, &end);
+  return *end == '\0' && v > 0 && v <= usual ? v : usual;
+}
+
 }  // namespace grainlift::continuum::internal

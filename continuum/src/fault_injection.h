@@ -19,4 +19,11 @@ void fail_here_if_requested(const std::string& where);
 /// level about to be solved). Test: MachineFaultsRun (tests/scripts).
 void bad_alloc_here_if_requested(int level);
 
+/// @brief Test hook, not a feature: how long a failing rank waits for the others
+/// (MpiSession::all_ranks_failed): the environment variable GRAINLIFT_TEST_FAILURE_WAIT_SECONDS
+/// when it holds a number in (0, @p usual], else @p usual. Lets the one-rank failure test
+/// (FemMpi.FailureOnOneRankEndsEveryRank) wait 1 s instead of 10, while the other rank spins in
+/// a collective call.
+double failure_wait_seconds(double usual);
+
 }  // namespace grainlift::continuum::internal

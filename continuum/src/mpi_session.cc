@@ -9,6 +9,8 @@
 #include <iostream>
 #include <thread>
 
+#include "fault_injection.h"
+
 namespace grainlift::continuum {
 
 namespace {
@@ -68,7 +70,8 @@ bool MpiSession::all_ranks_failed(FailureSite site, const std::string& message, 
     MPI_Request request;
     MPI_Iallreduce(in, out, 2, MPI_INT, MPI_MAX, failure_comm, &request);
     const auto deadline = std::chrono::steady_clock::now() +
-                          std::chrono::duration<double>(kFailureWaitSeconds);
+                          std::chrono::duration<double>(
+                              internal::failure_wait_seconds(kFailureWaitSeconds));
     int done = 0;
     while (true) {
       MPI_Test(&request, &done, MPI_STATUS_IGNORE);

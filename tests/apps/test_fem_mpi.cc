@@ -302,16 +302,19 @@ TEST(FemMpi, FailureOnEveryRankIsReportedOnce) {
 
 // A failure on one rank only (here the test hook GRAINLIFT_TEST_FAIL_ON_RANK=1: rank 1 throws
 // just before the nonlinear solve, while rank 0 goes on into the solve's collective calls)
-// must not leave rank 0 waiting forever: rank 1 waits MpiSession::kFailureWaitSeconds (10 s)
-// for the others to fail with it, prints its message with its rank and ends both with
-// MPI_Abort. Non-zero exit within the 60 s of `timeout` (exit 124 would mean a hang), no result.
+// must not leave rank 0 waiting forever: rank 1 waits for the others to fail with it
+// (MpiSession::kFailureWaitSeconds, 10 s; here 1 s by the hook
+// GRAINLIFT_TEST_FAILURE_WAIT_SECONDS, while rank 0 spins in a collective call), prints its
+// message with its rank and ends both with MPI_Abort. Non-zero exit within the 60 s of
+// `timeout` (exit 124 would mean a hang), no result.
 TEST(FemMpi, FailureOnOneRankEndsEveryRank) {
   if (!have_mpirun()) GTEST_SKIP() << "no mpirun";
   const TempDir dir("one_rank");
   const fs::path out_dir = dir.path / "out";
   std::string out;
   const int rc = run_case(dir, " --quiet --set continuum.refinement=0", 2, "out", out, "run",
-                          "GRAINLIFT_TEST_FAIL_ON_RANK=1 timeout 60 ");
+                          "GRAINLIFT_TEST_FAIL_ON_RANK=1 GRAINLIFT_TEST_FAILURE_WAIT_SECONDS=1 "
+                          "timeout 60 ");
   std::printf("%s\n", out.c_str());
   EXPECT_NE(rc, 0);
   EXPECT_NE(rc, 124) << "timed out: the ranks hung";
