@@ -124,11 +124,27 @@ std::size_t screen_lanes(const PeriodicBox& box, const int* owner, const int* pa
                                                out + count, out_dx + count, out_dy + count);
 }
 
-/// Stores the lanes of @p v whose bits differ from @p old at @p p (a lane that keeps its
-/// value is not written: no dirty cache line for it).
+/// @p v into the lanes of @p p where @p m is set; @p old holds the bits at @p p. AVX-512 stores
+/// under the mask. On AVX2 the masked store (vmaskmovpd) is microcoded and slow on AMD's cores
+/// (the reference machine: the kick took 35% of the AVX2 target's production run with it), so
+/// the whole vector is stored, the other lanes with their own bits: memory holds the same bits,
+/// and the lanes are this thread's rows, which no other thread reads or writes during the kick
+/// (step_schedule.cc). Elsewhere Highway's own masked store.
+template <class M>
+HWY_INLINE void store_where(D d, M m, V v, V old, double* p) {
+#if HWY_TARGET == HWY_AVX2
+  hn::StoreU(hn::IfThenElse(m, v, old), d, p);
+#else
+  (void)old;
+  hn::BlendedStore(v, m, d, p);
+#endif
+}
+
+/// Stores the lanes of @p v whose bits differ from @p old at @p p (with a masked store, a lane
+/// that keeps its value is not written: no dirty cache line for it).
 HWY_INLINE void store_changed(D d, V v, V old, double* p) {
   const DU du;
-  hn::BlendedStore(v, hn::RebindMask(d, hn::Ne(hn::BitCast(du, v), hn::BitCast(du, old))), d, p);
+  store_where(d, hn::RebindMask(d, hn::Ne(hn::BitCast(du, v), hn::BitCast(du, old))), v, old, p);
 }
 
 /// The lanes whose byte at @p p is not zero.
@@ -167,9 +183,9 @@ HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V
   store_changed(d, ayn, hn::LoadU(d, k.ay + r), k.ay + r);
   store_changed(d, aln, hn::LoadU(d, k.al + r), k.al + r);
   const auto touched = nonzero_bytes(d, k.touched + r);
-  hn::BlendedStore(hn::Zero(d), touched, d, k.sfx + r);
-  hn::BlendedStore(hn::Zero(d), touched, d, k.sfy + r);
-  hn::BlendedStore(hn::Zero(d), touched, d, k.sq + r);
+  store_where(d, touched, hn::Zero(d), fx, k.sfx + r);
+  store_where(d, touched, hn::Zero(d), fy, k.sfy + r);
+  store_where(d, touched, hn::Zero(d), qs, k.sq + r);
   kx = hn::Mul(h, axn);
   ky = hn::Mul(h, ayn);
   kw = hn::Mul(h, aln);
