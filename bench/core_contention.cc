@@ -9,12 +9,21 @@
 // replica targets (issue 14: two threads >= 1.85x one, two replicas ~2x) cannot beat what
 // these kernels get, so docs/performance.md quotes them beside the DEM's own ratios.
 //
+// A team steps in lockstep (one barrier per step: dem/src/step/team_barrier.h), so it also
+// meets what a core-side ratio hides: each core's own pauses and the barrier's latency, paid
+// once per step. The lockstep rows time steps of equal work per thread, from about a demo's
+// step (873 grains: ~12 us per thread) to a large bed's, on two pinned threads with that
+// barrier, against one thread doing both halves; their ratio is the ceiling of --threads 2 at
+// that step length on this machine.
+//
 //   compute  eight independent multiply-add chains in registers (the FP units only)
 //   cache    dependent random loads within 512 KiB (the core's L2)
 //   memory   a sum over 512 MiB (the memory bandwidth the cores share)
+//   lockstep a kick-like update of each thread's own 48 kB of doubles per step, one barrier
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -25,6 +34,8 @@
 #include <random>
 #include <thread>
 #include <vector>
+
+#include "step/team_barrier.h"
 
 namespace {
 
@@ -104,6 +115,43 @@ double units_per_second(int copies, double seconds, const std::function<double(i
   return std::accumulate(rate.begin(), rate.end(), 0.0);
 }
 
+/// One step's work of a lockstep thread: @p reps passes of a kick-like update over its arrays.
+void lockstep_unit(std::vector<double>& v, const std::vector<double>& a, int reps) {
+  const std::size_t n = v.size();
+  for (int k = 0; k < reps; ++k)
+    for (std::size_t i = 0; i < n; ++i) v[i] = 0.999 * v[i] + 1e-3 * a[i];
+}
+
+/// Seconds per step: @p threads pinned threads, each @p reps passes per step, one barrier per
+/// step (threads == 1: one thread, 2 * reps passes, no barrier), for @p steps steps.
+double lockstep_seconds(int threads, int reps, long steps) {
+  constexpr std::size_t kDoubles = 3 << 10;  // 24 kB per array, two arrays per thread
+  std::vector<std::vector<double>> v(2, std::vector<double>(kDoubles, 1.0));
+  std::vector<std::vector<double>> a(2, std::vector<double>(kDoubles, 0.5));
+  grainlift::dem::detail::TeamBarrier barrier(threads);
+  std::atomic<int> ready{0};
+  double wall = 0;
+  auto body = [&](int t) {
+    pin_to(t);
+    ++ready;
+    while (ready < threads) {
+    }
+    const auto t0 = Clock::now();
+    for (long s = 0; s < steps; ++s) {
+      lockstep_unit(v[t], a[t], threads == 1 ? 2 * reps : reps);
+      barrier.wait();
+    }
+    if (t == 0) wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  std::vector<std::thread> team;
+  for (int t = 1; t < threads; ++t) team.emplace_back(body, t);
+  body(0);
+  for (auto& t : team) t.join();
+  volatile double sink = v[0][0] + v[1][0];
+  (void)sink;
+  return wall / static_cast<double>(steps);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -132,6 +180,31 @@ int main(int argc, char** argv) {
     const double one = units_per_second(1, seconds, k.work);
     const double two = units_per_second(2, seconds, k.work);
     std::printf("%-8s %16.1f %16.1f %7.2fx\n", k.name, one, two, two / one);
+  }
+  // lockstep: passes per step for about 3, 12, 50 and 200 us per thread; one thread and two
+  // alternately, kRounds pairs (the median of the paired ratios: a VM's slow spells last
+  // seconds and change either side by tens of percent)
+  constexpr int kRounds = 7;
+  const double pass = lockstep_seconds(1, 50, 200) / 100;  // s per pass, one thread
+  std::printf("\n%-8s %18s %18s %18s %8s\n", "lockstep", "us/thread/step", "1 thread (us/step)",
+              "2 threads (us/step)", "ratio");
+  for (const double us : {3.0, 12.0, 50.0, 200.0}) {
+    const int reps = std::max(1, static_cast<int>(us * 1e-6 / pass + 0.5));
+    const long steps =
+        std::max(200L, static_cast<long>(seconds / kRounds / (2 * reps * pass)));
+    lockstep_seconds(2, reps, steps / 10);  // warm-up
+    std::vector<double> one, two, ratio;
+    for (int k = 0; k < kRounds; ++k) {
+      one.push_back(lockstep_seconds(1, reps, steps));
+      two.push_back(lockstep_seconds(2, reps, steps));
+      ratio.push_back(one.back() / two.back());
+    }
+    auto median = [](std::vector<double> x) {
+      std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+      return x[x.size() / 2];
+    };
+    std::printf("%-8s %18.1f %18.2f %18.2f %7.2fx\n", "", reps * pass * 1e6, median(one) * 1e6,
+                median(two) * 1e6, median(ratio));
   }
   return 0;
 }

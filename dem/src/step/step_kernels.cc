@@ -141,10 +141,17 @@ HWY_INLINE void store_where(D d, M m, V v, V old, double* p) {
 }
 
 /// Stores the lanes of @p v whose bits differ from @p old at @p p (with a masked store, a lane
-/// that keeps its value is not written: no dirty cache line for it).
+/// that keeps its value is not written: no dirty cache line for it). On AVX2, whose store_where
+/// writes the whole vector anyway, the blend of v's changed lanes with old's equal bits is v
+/// itself: v is stored as it is, without the comparison.
 HWY_INLINE void store_changed(D d, V v, V old, double* p) {
+#if HWY_TARGET == HWY_AVX2
+  (void)old;
+  hn::StoreU(v, d, p);
+#else
   const DU du;
   store_where(d, hn::RebindMask(d, hn::Ne(hn::BitCast(du, v), hn::BitCast(du, old))), v, old, p);
+#endif
 }
 
 /// The lanes whose byte at @p p is not zero.
@@ -269,14 +276,7 @@ int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
     std::memcpy(&t, k.touched + i, 8);
     // grains with pair forces summed in sfx, sfy, sq, none touching the intruder
     const bool forces = (f | t) != 0;
-    if (forces) {
-      if (f & (kOnes * k.candidate_bit)) break;
-      if (k.shared) {
-        std::uint64_t sh;
-        std::memcpy(&sh, k.shared + i, 8);
-        if (sh & t) break;  // a touched shared grain: its sum is gathered (finish_impl)
-      }
-    }
+    if (forces && (f & (kOnes * k.candidate_bit))) break;
     for (std::size_t o = 0; o < 8; o += lanes) {
       const std::size_t r = static_cast<std::size_t>(i) + o;
       V kx = hax, ky = hay, kw = hal;  // h a of each lane

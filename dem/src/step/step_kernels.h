@@ -39,9 +39,6 @@ struct PlainKick {
   double dt, h, damp;
   double ax0, ay0, al0;  ///< the accelerations of a grain without force
   // the pair-force sums per grain (range_forces), and what the accelerations need
-  /// per grain: 1 if shared by a team's threads (its sum is gathered by the scalar kick), or
-  /// nullptr
-  const std::uint8_t* shared;
   double* sfx;
   double* sfy;
   double* sq;
@@ -60,7 +57,7 @@ struct PlainKick {
 /// half kick (and with drift, the next half kick and drift) of grains without any force
 /// (flags and touched 0; groups of eight sleepers are skipped), and also of grains with pair
 /// forces (summed in sfx, sfy, sq) and their accelerations; stops at the first group with a
-/// grain it does not handle (a candidate of the intruder; a touched shared grain), or fewer than
+/// grain it does not handle (a candidate of the intruder), or fewer than
 /// eight rows before hi. Returns the row where it stopped (i itself when it did nothing or on
 /// the scalar target); max_d2 is raised to the largest squared displacement from (xb, yb) of
 /// the grains it moved (drift only). Call it only when vector_enabled() (simd_target.h).

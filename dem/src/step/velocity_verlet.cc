@@ -19,9 +19,9 @@ inline std::uint64_t bits(double v) {
   std::memcpy(&b, &v, sizeof b);
   return b;
 }
-/// The pair-force sum of grain @p i shared by a team's threads, into @p fx, @p fy, @p qs: the
-/// pairs where i is the partner (by pair index), then i's own row, the order in which
-/// range_forces sums the others.
+/// The pair-force sum of grain @p i shared by a team's threads, added to @p fx, @p fy, @p qs
+/// (+0.0 on entry): the pairs where i is the partner (by pair index), then i's own row, the
+/// order in which range_forces sums the others.
 inline void gather_shared_sum(int i, const NeighborList& nl, double& fx, double& fy,
                               double& qs) {
   for (std::int64_t s = nl.rfirst[i]; s < nl.rfirst[i + 1]; ++s) {
@@ -68,7 +68,7 @@ inline void second_kick(const detail::PlainKick& k, int i, double axn, double ay
 }  // namespace
 
 template <DemSystem::Kick kMode>
-double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
+double DemSystem::finish_impl(int lo, int hi) {
   const double dt = opt_.dt, h = 0.5 * dt;
   const double gx = opt_.gravity[0], gy = opt_.gravity[1];
   const double damp = damping_rate_ > 0 ? std::exp(-damping_rate_ * dt) : 1.0;
@@ -105,10 +105,9 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
   // others one by one, a group of eight at a time.
   const bool simd = kMode != Kick::first && detail::vector_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
-  detail::PlainKick plain{px,    py,    vx,     vy,     w,     xb,  yb,        flags,     touched,
-                          dormant, dt,    h,     damp,   ax0,    ay0,   al0, shared, sfx,       sfy,
-                          sq,    inv_m, inv_i,  r,      ax,    ay,  al,       gx,        gy,
-                          kCandidate, kAccelSet, box};
+  detail::PlainKick plain{px,  py,    vx,    vy,    w,   xb,  yb,  flags, touched, dormant,
+                          dt,  h,     damp,  ax0,   ay0, al0, sfx, sfy,   sq,      inv_m,
+                          inv_i, r,   ax,    ay,    al,  gx,  gy,  kCandidate, kAccelSet, box};
   for (int i = lo; i < hi;) {
     if (simd) {
       const int stop = detail::kick_plain(plain, kMode == Kick::drift, i, hi, maxd2);
@@ -136,16 +135,12 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
     // a grain with no touching pair has exactly zero pair force (+0.0, as the sums below)
     double fx = 0, fy = 0, qs = 0;
     if (touched[i]) {
+      // the sums of this step (range_forces, or gathered by finish_rows); zeroed for the next
       touched[i] = 0;
-      if (!(shared && shared[i])) {
-        // the sums of this step (range_forces); zeroed for the next one
-        fx = sfx[i];
-        fy = sfy[i];
-        qs = sq[i];
-        sfx[i] = sfy[i] = sq[i] = 0;
-      } else {
-        gather_shared_sum(i, nl_, fx, fy, qs);
-      }
+      fx = sfx[i];
+      fy = sfy[i];
+      qs = sq[i];
+      sfx[i] = sfy[i] = sq[i] = 0;
     }
     double tq = -r[i] * qs;
     if (fl & kCandidate) {
@@ -170,9 +165,20 @@ double DemSystem::finish_impl(int lo, int hi, const std::uint8_t* shared) {
 }
 
 double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared) {
-  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi, shared);
-  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi, shared);
-  return finish_impl<Kick::first>(lo, hi, shared);
+  if (shared) {
+    // A shared grain's sums, from its stored pair forces, where the pair loop puts any other
+    // grain's (which it leaves at zero for a shared one): the kick then handles it as any
+    // touched grain, in the vector loop too, with the same bits.
+    for (int i = lo; i < hi; ++i) {
+      if (shared[i] && touched_[static_cast<std::size_t>(i)]) {
+        const auto u = static_cast<std::size_t>(i);
+        gather_shared_sum(i, nl_, fx_[u], fy_[u], tq_[u]);
+      }
+    }
+  }
+  if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi);
+  if (mode == Kick::sync) return finish_impl<Kick::sync>(lo, hi);
+  return finish_impl<Kick::first>(lo, hi);
 }
 
 double DemSystem::drift_rows(int lo, int hi) {

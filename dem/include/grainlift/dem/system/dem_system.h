@@ -288,10 +288,11 @@ class DemSystem {
   /// Accelerations of rows [lo, hi) from the forces; with Kick::sync/drift the second half
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
-  /// Grains with @p shared set (nullptr: none) sum their stored pair forces (range_forces).
+  /// Grains with @p shared set (nullptr: none) first sum their stored pair forces
+  /// (range_forces) into fx_, fy_, tq_, where the kick then finds them as any grain's.
   double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared);
   template <Kick kMode>
-  double finish_impl(int lo, int hi, const std::uint8_t* shared);
+  double finish_impl(int lo, int hi);
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
   double drift_rows(int lo, int hi);
   /// Move the intruder by one step; returns its displacement since the last build.
