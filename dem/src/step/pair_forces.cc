@@ -146,8 +146,9 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   // order, except for the shared grains of a team (run_segment_team): their pair forces are
   // stored and summed at the kick, in the same order (pairs where the grain is the partner,
   // by pair index, then its own row), so the results are the same bits.
-  const bool store_all = store_pair_forces_;
-  const bool forget_forces = store_all || kTeam;
+  const bool store_all = store_pair_forces_ && store_step_;
+  const bool store_frozen = store_pair_forces_;  // pairs with a frozen disk: every step
+  const bool forget_forces = store_pair_forces_ || kTeam;
   double* sfx = fx_.data();
   double* sfy = fy_.data();
   double* sq = tq_.data();
@@ -210,7 +211,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
       const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
       const bool si = kTeam && shared[i] != 0;
       const bool sj = kTeam && j < ng && shared[j] != 0;
-      if (store_all || si || sj) {
+      if (store_all || si || sj || (store_frozen && j >= ng)) {
         pfx[k] = fxb;
         pfy[k] = fyb;
         pq[k] = qk;

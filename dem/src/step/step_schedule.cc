@@ -51,6 +51,7 @@ long long DemSystem::run_segment(long long m) {
       rebuild = true;
       break;
     }
+    store_step_ = k + 1 == m;
     intruder_forces(dt, max_ov);
     for (int c = 0; c < chunks(); ++c) chunk_forces(c, dt, max_ov, full_history_check_);
     ++k;
@@ -234,6 +235,7 @@ long long DemSystem::run_segment_team(long long m) {
     barrier.wait([&] {
       rebuild = rebuild_due(was_drifted ? 0.0 : largest_d2(), idisp, was_drifted);
       done = rebuild;
+      store_step_ = m == 1;
     });
     using Clock = std::chrono::steady_clock;
     Clock::duration busy{0};
@@ -265,6 +267,7 @@ long long DemSystem::run_segment_team(long long m) {
       busy += (t1 - t0) + (Clock::now() - t2);
       barrier.wait([&] {
         completed = s + 1;
+        store_step_ = s + 2 == m;
         step_boundaries();
         advance_clock(last, idisp);
         full_check = false;

@@ -166,8 +166,10 @@ class DemSystem {
   void set_background_damping(double rate) { damping_rate_ = rate; }
   /// @brief Multiply every grain radius by factor (soft compression by radius growth).
   void scale_grain_radii(double factor);
-  /// @brief Keep the per-pair forces of every step in neighbors().fx/fy/q (default on; the
-  /// contact stress of the fields reads them). Off, a one-thread run skips those stores; the
+  /// @brief Keep the per-pair forces in neighbors().fx/fy/q (default on; the contact stress
+  /// of the fields reads them): those of the last step of each advance() call (what is read
+  /// after it), and every step those of the pairs with a frozen disk (the lid's force, read
+  /// inside it); the other pairs hold zero. Off, a one-thread run skips those stores; the
   /// forces on the bodies are the same bits either way.
   void set_store_pair_forces(bool on) {
     on = on || lid_.has_value();  // the lid reads them
@@ -379,6 +381,9 @@ class DemSystem {
   bool team_fixed_ = false;            ///< set_team_fixed()
   std::int64_t steps_on_one_ = 0, steps_on_team_ = 0;
   bool store_pair_forces_ = true;
+  /// the force pass under way stores every touching pair's force (the last step of advance()
+  /// with store_pair_forces_; set by run_segment, run_segment_team and prepare)
+  bool store_step_ = true;
   double damping_rate_ = 0;
   double growth_since_build_ = 0;  ///< m, largest radius increase since the last build
   int n_grains_ = 0, n_total_ = 0;
