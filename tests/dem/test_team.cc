@@ -136,6 +136,58 @@ TEST(Team, AnyTeamGivesTheBitsOfOneThread) {
   }
 }
 
+// Physics: none new - the per-pair forces kept for the fields, the far-field stress and the
+// lid (set_store_pair_forces) are those of the last step of each advance() call: for every
+// grain away from the intruder, the stored forces of its pairs, summed in the kick's pair
+// order (where it is the partner, then its own row), give the acceleration that step left it
+// (no gravity: a = F / m), and every listed pair that no longer touches holds zero. The
+// ploughed strip, pair forces kept, on one thread and a team of 2, after advance() calls of
+// 1 to 700 steps (list builds in between). Tolerance: exact equality (the same sums, in the
+// same order, as the step's own).
+TEST(Team, StoredPairForcesAreThoseOfTheLastStep) {
+  for (int threads : {1, 2}) {
+    auto s = ploughed_strip(threads, true, Variant{true, false});
+    const gd::NeighborList& nl = s->neighbors();
+    const gd::ParticleArrays& p = s->particles();
+    int checked = 0, touching_rows = 0;
+    for (const int n : {1, 137, 700, 2, 451}) {
+      s->advance(n);
+      const gd::Intruder& in = s->intruder();
+      for (int i = 0; i < s->grains(); ++i) {
+        const double gap = std::hypot(p.x[i] - in.x, p.y[i] - in.y) - in.r - p.r[i];
+        if (gap < 0.01) continue;  // the intruder's force is in its acceleration too
+        double fx = 0, fy = 0;
+        for (std::int64_t k = nl.rfirst[i]; k < nl.rfirst[i + 1]; ++k) {
+          fx -= nl.fx[nl.rpair[k]];
+          fy -= nl.fy[nl.rpair[k]];
+        }
+        for (std::int64_t k = nl.first[i]; k < nl.first[i + 1]; ++k) {
+          fx += nl.fx[k];
+          fy += nl.fy[k];
+          const int j = nl.partner[k];
+          const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j];
+          // a pair apart by more than the box's rounding holds no force (pairs across the
+          // periodic boundary are far in x: their |dx| > half the box)
+          if (std::abs(dx) < 0.3 && std::hypot(dx, dy) > 1.0001 * (p.r[i] + p.r[j])) {
+            EXPECT_EQ(nl.fx[k], 0.0);
+            EXPECT_EQ(nl.fy[k], 0.0);
+          }
+        }
+        const double gx = 0.0;
+        EXPECT_EQ(bits(fx * p.inv_m[i] + gx), bits(p.ax[i])) << "grain " << i << ", " << threads
+                                                            << " thread(s)";
+        EXPECT_EQ(bits(fy * p.inv_m[i] + gx), bits(p.ay[i])) << "grain " << i;
+        ++checked;
+        if (fx != 0.0) ++touching_rows;
+      }
+    }
+    EXPECT_GT(checked, 5 * 1500);
+    // the strip is loose: about 3% of the grains checked touch a neighbour at those steps
+    EXPECT_GT(touching_rows, 100) << "the check must see stored forces";
+    EXPECT_GE(s->list_builds(), 3);
+  }
+}
+
 // Physics: none new - a wall closing at a constant speed (the bed preparation's wall
 // compression) moved by drive_frozen inside advance() must be the wall moved before each
 // step() by move_frozen, bit for bit, on one thread and on a team. The ploughed strip's top
