@@ -106,27 +106,30 @@ inline void raise_max_overlap(double delta, double ri, double rj, double& max_ov
 }
 }  // namespace
 
-void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check) {
+void DemSystem::chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check,
+                             bool last_step) {
   const int lo = chunk * kChunkRows, hi = std::min(n_grains_, lo + kChunkRows);
   range_forces(lo, hi, touch_[static_cast<std::size_t>(chunk)],
                touch_prev_[static_cast<std::size_t>(chunk)], spring_dt, max_ov, full_check,
-               nullptr);
+               last_step, nullptr);
 }
 
 void DemSystem::range_forces(int lo, int hi, TouchList& now, TouchList& before,
-                             double spring_dt, double& max_ov, bool full_check,
+                             double spring_dt, double& max_ov, bool full_check, bool last_step,
                              const std::uint8_t* shared) {
   if (shared) {
-    range_forces_impl<true>(lo, hi, now, before, spring_dt, max_ov, full_check, shared);
+    range_forces_impl<true>(lo, hi, now, before, spring_dt, max_ov, full_check, last_step,
+                            shared);
   } else {
-    range_forces_impl<false>(lo, hi, now, before, spring_dt, max_ov, full_check, nullptr);
+    range_forces_impl<false>(lo, hi, now, before, spring_dt, max_ov, full_check, last_step,
+                             nullptr);
   }
 }
 
 template <bool kTeam>
 void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchList& before_list,
                                   double spring_dt, double& max_ov, bool full_check,
-                                  const std::uint8_t* shared) {
+                                  bool last_step, const std::uint8_t* shared) {
   // local copies: the compiler can keep them in registers (no aliasing with the arrays)
   const PeriodicBox box = opt_.box;
   const LawCoefficients law = law_;
@@ -146,7 +149,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   // order, except for the shared grains of a team (run_segment_team): their pair forces are
   // stored and summed at the kick, in the same order (pairs where the grain is the partner,
   // by pair index, then its own row), so the results are the same bits.
-  const bool store_all = store_pair_forces_ && store_step_;
+  const bool store_all = store_pair_forces_ && last_step;
   const bool store_frozen = store_pair_forces_;  // pairs with a frozen disk: every step
   const bool forget_forces = store_pair_forces_ || kTeam;
   double* sfx = fx_.data();

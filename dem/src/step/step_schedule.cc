@@ -51,11 +51,10 @@ long long DemSystem::run_segment(long long m) {
       rebuild = true;
       break;
     }
-    store_step_ = k + 1 == m;
+    const bool last = k + 1 == m;
     intruder_forces(dt, max_ov);
-    for (int c = 0; c < chunks(); ++c) chunk_forces(c, dt, max_ov, full_history_check_);
+    for (int c = 0; c < chunks(); ++c) chunk_forces(c, dt, max_ov, full_history_check_, last);
     ++k;
-    const bool last = k == m;
     step_boundaries();
     advance_clock(last, idisp);
     full_history_check_ = false;
@@ -63,7 +62,7 @@ long long DemSystem::run_segment(long long m) {
     for (int c = 0; c < chunks(); ++c) {
       const int lo = c * kChunkRows;
       d2 = std::max(d2, finish_rows(lo, std::min(n_grains_, lo + kChunkRows),
-                                    last ? Kick::sync : Kick::drift, nullptr));
+                                    last ? Kick::sync : Kick::drift, false));
     }
     if (last) break;
   }
@@ -146,6 +145,9 @@ void DemSystem::plan_split() {
       if (j >= cross && j < hi) shared_[static_cast<std::size_t>(j)] = 1;
     }
   }
+  shared_rows_.clear();
+  for (int i = 0; i < ng; ++i)
+    if (shared_[static_cast<std::size_t>(i)]) shared_rows_.push_back(i);
   // two touch lists per thread: the top band, then the rest, each with room for all its pairs
   split_touch_.resize(2 * nt);
   split_touch_prev_.resize(2 * nt);
@@ -235,7 +237,6 @@ long long DemSystem::run_segment_team(long long m) {
     barrier.wait([&] {
       rebuild = rebuild_due(was_drifted ? 0.0 : largest_d2(), idisp, was_drifted);
       done = rebuild;
-      store_step_ = m == 1;
     });
     using Clock = std::chrono::steady_clock;
     Clock::duration busy{0};
@@ -245,29 +246,28 @@ long long DemSystem::run_segment_team(long long m) {
         intruder_forces(dt, max_ov);
         slot[0].intruder_done.store(s + 1, std::memory_order_release);
       }
+      const bool last = s + 1 == m;
       range_forces(cross, hi, split_touch_[2 * ut], split_touch_prev_[2 * ut], dt, max_ov,
-                   full_check, shared);
+                   full_check, last, shared);
       slot[t].band_done.store(s + 1, std::memory_order_release);
       range_forces(lo, cross, split_touch_[2 * ut + 1], split_touch_prev_[2 * ut + 1], dt,
-                   max_ov, full_check, shared);
-      const bool last = s + 1 == m;
+                   max_ov, full_check, last, shared);
       const Kick mode = last ? Kick::sync : Kick::drift;
       double d2 = 0;
       if (t > 0) {
         // the rows no lower range reaches, once the intruder's contacts are known
         wait_until([&] { return slot[0].intruder_done.load(std::memory_order_acquire) > s; });
-        d2 = finish_rows(reach, hi, mode, shared);
+        d2 = finish_rows(reach, hi, mode, true);
       }
       const auto t1 = Clock::now();
       for (int u = 0; u < t; ++u) {
         wait_until([&] { return slot[u].band_done.load(std::memory_order_acquire) > s; });
       }
       const auto t2 = Clock::now();
-      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, shared));
+      slot[t].d2 = std::max(d2, finish_rows(lo, reach, mode, true));
       busy += (t1 - t0) + (Clock::now() - t2);
       barrier.wait([&] {
         completed = s + 1;
-        store_step_ = s + 2 == m;
         step_boundaries();
         advance_clock(last, idisp);
         full_check = false;

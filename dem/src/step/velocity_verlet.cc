@@ -164,16 +164,15 @@ double DemSystem::finish_impl(int lo, int hi) {
   return maxd2;
 }
 
-double DemSystem::finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared) {
-  if (shared) {
+double DemSystem::finish_rows(int lo, int hi, Kick mode, bool team) {
+  if (team) {
     // A shared grain's sums, from its stored pair forces, where the pair loop puts any other
     // grain's (which it leaves at zero for a shared one): the kick then handles it as any
     // touched grain, in the vector loop too, with the same bits.
-    for (int i = lo; i < hi; ++i) {
-      if (shared[i] && touched_[static_cast<std::size_t>(i)]) {
-        const auto u = static_cast<std::size_t>(i);
-        gather_shared_sum(i, nl_, fx_[u], fy_[u], tq_[u]);
-      }
+    auto it = std::lower_bound(shared_rows_.begin(), shared_rows_.end(), lo);
+    for (; it != shared_rows_.end() && *it < hi; ++it) {
+      const auto u = static_cast<std::size_t>(*it);
+      if (touched_[u]) gather_shared_sum(*it, nl_, fx_[u], fy_[u], tq_[u]);
     }
   }
   if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi);

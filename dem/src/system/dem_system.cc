@@ -250,11 +250,10 @@ void DemSystem::prepare() {
   build_lists();
   double max_ov = max_overlap_;
   intruder_forces(0.0, max_ov);
-  store_step_ = true;
-  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_);
+  for (int c = 0; c < chunks(); ++c) chunk_forces(c, 0.0, max_ov, full_history_check_, true);
   full_history_check_ = false;
   max_overlap_ = max_ov;
-  finish_rows(0, n_grains_, Kick::first, nullptr);
+  finish_rows(0, n_grains_, Kick::first, false);
   drifted_ = false;
   primed_ = true;
 }

@@ -273,26 +273,30 @@ class DemSystem {
     }
   };
   /// Pair forces of the rows of one chunk (one thread; pass 1: distance checks, pass 2:
-  /// contact law), summed per grain in the pair loop.
-  void chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check);
+  /// contact law), summed per grain in the pair loop. @p last_step: the last step of an
+  /// advance() call, whose per-pair forces are kept (with store_pair_forces_).
+  void chunk_forces(int chunk, double spring_dt, double& max_ov, bool full_check,
+                    bool last_step);
   /// The same for rows [lo, hi) with their touch lists (swapped: @p now gets this step's
   /// touching pairs, @p before holds the last step's). Grains with @p shared set (a team's
   /// grains that pairs of other threads' rows reach; nullptr: none) get no sum in the pair
   /// loop: the pair forces of their pairs are stored and the kick sums them in pair order.
   void range_forces(int lo, int hi, TouchList& now, TouchList& before, double spring_dt,
-                    double& max_ov, bool full_check, const std::uint8_t* shared);
+                    double& max_ov, bool full_check, bool last_step,
+                    const std::uint8_t* shared);
   template <bool kTeam>
   void range_forces_impl(int lo, int hi, TouchList& now, TouchList& before, double spring_dt,
-                         double& max_ov, bool full_check, const std::uint8_t* shared);
+                         double& max_ov, bool full_check, bool last_step,
+                         const std::uint8_t* shared);
   /// The intruder's own contacts (serial, fixed order).
   void intruder_forces(double spring_dt, double& max_ov);
   enum class Kick { first, sync, drift };
   /// Accelerations of rows [lo, hi) from the forces; with Kick::sync/drift the second half
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
-  /// Grains with @p shared set (nullptr: none) first sum their stored pair forces
-  /// (range_forces) into fx_, fy_, tq_, where the kick then finds them as any grain's.
-  double finish_rows(int lo, int hi, Kick mode, const std::uint8_t* shared);
+  /// On a team (@p team), the team's shared grains (shared_rows_) first sum their stored pair
+  /// forces (range_forces) into fx_, fy_, tq_, where the kick then finds them as any grain's.
+  double finish_rows(int lo, int hi, Kick mode, bool team);
   template <Kick kMode>
   double finish_impl(int lo, int hi);
   /// Half kick and drift of rows [lo, hi); returns the largest squared displacement.
@@ -381,9 +385,6 @@ class DemSystem {
   bool team_fixed_ = false;            ///< set_team_fixed()
   std::int64_t steps_on_one_ = 0, steps_on_team_ = 0;
   bool store_pair_forces_ = true;
-  /// the force pass under way stores every touching pair's force (the last step of advance()
-  /// with store_pair_forces_; set by run_segment, run_segment_team and prepare)
-  bool store_step_ = true;
   double damping_rate_ = 0;
   double growth_since_build_ = 0;  ///< m, largest radius increase since the last build
   int n_grains_ = 0, n_total_ = 0;
@@ -406,6 +407,7 @@ class DemSystem {
   /// were planned for.
   std::vector<int> split_;
   std::vector<std::uint8_t> shared_;
+  std::vector<int> shared_rows_;  ///< the shared grains, in increasing order
   /// per thread: the rows of its range below this are read by the pairs of lower ranges; the
   /// first row of its top band (the rows from the first one owning a pair that reaches a
   /// higher range)
