@@ -140,7 +140,8 @@ TEST(Team, AnyTeamGivesTheBitsOfOneThread) {
 // lid (set_store_pair_forces) are those of the last step of each advance() call: for every
 // grain away from the intruder, the stored forces of its pairs, summed in the kick's pair
 // order (where it is the partner, then its own row), give the acceleration that step left it
-// (no gravity: a = F / m), and every listed pair that no longer touches holds zero. The
+// (no gravity: a = F / m), and every listed pair that no longer touches holds zero force and
+// has forgotten its tangential spring (a separated pair's history is lost). The
 // ploughed strip, pair forces kept, on one thread and a team of 2, after advance() calls of
 // 1 to 700 steps (list builds in between). Tolerance: exact equality (the same sums, in the
 // same order, as the step's own).
@@ -171,6 +172,8 @@ TEST(Team, StoredPairForcesAreThoseOfTheLastStep) {
           if (std::abs(dx) < 0.3 && std::hypot(dx, dy) > 1.0001 * (p.r[i] + p.r[j])) {
             EXPECT_EQ(nl.fx[k], 0.0);
             EXPECT_EQ(nl.fy[k], 0.0);
+            EXPECT_EQ(nl.sx[k], 0.0);
+            EXPECT_EQ(nl.sy[k], 0.0);
           }
         }
         const double gx = 0.0;
