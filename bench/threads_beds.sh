@@ -3,12 +3,13 @@
 # never slower), the DEM's whole run, the runs alternated: the demo (873 grains, 60 d), the
 # reduced Kumar bed (cases/kumar2019/reduced_phi080.toml, 2,295 grains, 30 d) and the same
 # widened to 2 m x 1.4 m (6,883 grains, 10 d). Fields off; the bed is packed (and cached)
-# before the timed runs. Prints each run's wall time, the team's share of the steps, and per
-# bed the ratio of the medians.
+# before the timed runs. Then the demo's whole command as `make demo` runs it (demo_both: both
+# solvers, fields on; with two threads the solvers run at once, docs/architecture.md). Prints
+# each run's wall time, the DEM team's share of the steps, and per bed the ratio of the medians.
 #
 #   bench/threads_beds.sh [build dir (build)] [rounds (3)]
 #
-# About 1.5 min per round on the 2-core reference machine; runs in a temporary folder.
+# About 3 min per round on the 2-core reference machine; runs in a temporary folder.
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"  # median, scratch_folder
 cd "$(dirname "$0")/.."
@@ -16,20 +17,23 @@ G=$(realpath "${1:-build}/bin/grainlift")
 ROUNDS=${2:-3}
 scratch_folder
 WIDE=(--set 'domain.x_range=[-1.0,1.0]' --set 'domain.y_range=[-0.7,0.7]')
+BEDS="demo kumar2295 kumar6883 demo_both"
 declare -A CASE=([demo]=cases/demo/demo.toml [kumar2295]=cases/kumar2019/reduced_phi080.toml
-  [kumar6883]=cases/kumar2019/reduced_phi080.toml)
+  [kumar6883]=cases/kumar2019/reduced_phi080.toml [demo_both]=cases/demo/demo.toml)
+DEM="--solver dem --set output.fields=false"
 args() {  # args BED: the bed's settings
   case $1 in
-    demo) echo "--set output.fields=false" ;;
-    kumar2295) echo "--set output.fields=false --set dem.travel=30 --set dem.steady_travel=5" ;;
-    kumar6883) echo "--set output.fields=false --set dem.travel=10 --set dem.steady_travel=5" ;;
+    demo) echo "$DEM" ;;
+    kumar2295) echo "$DEM --set dem.travel=30 --set dem.steady_travel=5" ;;
+    kumar6883) echo "$DEM --set dem.travel=10 --set dem.steady_travel=5" ;;
+    demo_both) echo "--solver both" ;;
   esac
 }
 run() {  # run BED THREADS
   local bed=$1 t=$2 extra=()
   [[ $bed == kumar6883 ]] && extra=("${WIDE[@]}")
   # shellcheck disable=SC2046
-  /usr/bin/time -f "%e" -o "$OUT/t" "$G" run "${CASE[$bed]}" --solver dem --threads "$t" --quiet \
+  /usr/bin/time -f "%e" -o "$OUT/t" "$G" run "${CASE[$bed]}" --threads "$t" --quiet \
     $(args "$bed") "${extra[@]}" --out "$OUT/$bed$t" >/dev/null 2>&1 ||
     { echo "$bed failed"; exit 1; }
   cat "$OUT/t" >>"$OUT/$bed$t.times"
@@ -44,12 +48,12 @@ PY
   echo "$bed threads $t: $(cat "$OUT/t") s (team on $team of the steps)"
 }
 "$G" --version | head -1
-for bed in demo kumar2295 kumar6883; do  # pack (and cache) each bed first
+for bed in $BEDS; do  # pack (and cache) each bed first
   run "$bed" 1 >/dev/null
   rm -f "$OUT/${bed}1.times"
 done
 for ((k = 1; k <= ROUNDS; ++k)); do
-  for bed in demo kumar2295 kumar6883; do
+  for bed in $BEDS; do
     run "$bed" 1
     run "$bed" 2
   done
@@ -57,7 +61,7 @@ done
 echo
 echo "| bed | one thread (s) | two threads (s) | ratio |"
 echo "|---|---|---|---|"
-for bed in demo kumar2295 kumar6883; do
+for bed in $BEDS; do
   a=$(median <"$OUT/${bed}1.times")
   b=$(median <"$OUT/${bed}2.times")
   echo "| $bed | $a | $b | $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.2f", a / b }') |"

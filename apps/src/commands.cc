@@ -131,8 +131,7 @@ int cmd_run(const RunArgs& a) {
     opt.out_dir = a.resume;
     opt.resume = true;
   }
-  opt.threads = a.threads;
-  opt.replicas = a.replicas;
+  set_threads(opt, a.threads, a.replicas);
   // under mpirun every rank solves (the continuum is distributed), rank 0 alone reports and
   // writes the files
   opt.writer = process_rank() == 0;
@@ -238,8 +237,7 @@ int cmd_sweep(const RunArgs& a, const std::string& vary) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     RunOptions opt;
     opt.out_dir = out + "/" + safe_name(key + "=" + values[i]);
-    opt.threads = a.threads;
-    opt.replicas = a.replicas;
+    set_threads(opt, a.threads, a.replicas);
     opt.progress = !a.quiet;
     fmt::print("sweep {}/{}: {} = {}\n", i + 1, values.size(), key, values[i]);
     std::fflush(stdout);
@@ -285,7 +283,9 @@ void add_run_options(CLI::App* cmd, RunArgs& a) {
   cmd->add_option("--set", a.sets,
                   "override a case key, section.key=value (TOML value; repeatable; validated "
                   "like the file)");
-  cmd->add_option("--threads", a.threads, "threads for the solver")
+  cmd->add_option("--threads", a.threads,
+                  "threads (two or more with both solvers: they run at once, the continuum on "
+                  "one core, the DEM's team on the cores it leaves)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd->add_option("--replicas", a.replicas,

@@ -58,6 +58,12 @@ std::vector<SolverEntry> available_solvers();
 /// cannot be loaded.
 std::vector<SolverEntry> start_solvers(std::vector<SolverEntry> picked);
 
+/// @p o's threads and replicas for `run` and `sweep`, and whether both solvers run at once
+/// (RunOptions::side_by_side): where there are cores for both (@p threads >= 2), with one
+/// replica (replicas share out the threads themselves), on one process (under mpirun every
+/// rank solves the continuum).
+void set_threads(RunOptions& o, int threads, int replicas);
+
 /// Rank and number of processes of an MPI run (0 and 1 without MPI; solver_table.cc).
 int process_rank();
 int process_count();

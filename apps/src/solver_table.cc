@@ -52,6 +52,12 @@ int process_count() {
   return 1;
 }
 
+void set_threads(RunOptions& o, int threads, int replicas) {
+  o.threads = threads;
+  o.replicas = replicas;
+  o.side_by_side = threads >= 2 && replicas == 1 && process_count() == 1;
+}
+
 bool failed_on_every_rank(const std::string& what, int code) {
 #ifdef GRAINLIFT_HAVE_FEM
   if (const continuum::FemModule* m = fem_module_if_loaded())

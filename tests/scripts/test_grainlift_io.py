@@ -35,14 +35,17 @@ from grainlift import io, stats  # noqa: E402
 
 WORK = tempfile.mkdtemp(prefix="grainlift_io_")
 RUN = os.path.join(WORK, "run")
+RUN_IN_TURN = os.path.join(WORK, "run_in_turn")
 TRAVEL = 6.0
 
 
 def setUpModule():
-    subprocess.run([BINARY, "run", CASE, "--solver", "both", "--out", RUN, "--threads", "1",
-                    "--quiet", "--set", f"dem.travel={TRAVEL:g}", "--set", "dem.steady_travel=2",
-                    "--set", "continuum.refinement=1", "--set", "intruder.omega=10"],
-                   check=True, stdout=subprocess.DEVNULL)
+    # both solvers with two threads: side by side (run_driver.h), then one after the other
+    for out, threads in ((RUN, "2"), (RUN_IN_TURN, "1")):
+        subprocess.run([BINARY, "run", CASE, "--solver", "both", "--out", out, "--threads",
+                        threads, "--quiet", "--set", f"dem.travel={TRAVEL:g}", "--set",
+                        "dem.steady_travel=2", "--set", "continuum.refinement=1", "--set",
+                        "intruder.omega=10"], check=True, stdout=subprocess.DEVNULL)
 
 
 def tearDownModule():
@@ -99,6 +102,24 @@ class ReadsWhatTheCommandWrote(unittest.TestCase):
         self.assertGreater(len(p["I"]), 0)
         self.assertTrue(len(p["I"]) == len(p["mu"]) == len(p["phi"]))
         self.assertIn("mu_s", law["mu_i"])
+
+
+class BothSolversAtOnce(unittest.TestCase):
+    """`--threads 2` runs the DEM and the continuum at once, on threads of one process: each
+    solver's numbers are those of the run in turn (`--threads 1`), bit for bit (the DEM gives
+    the same bits on one thread or a team, the continuum is deterministic), and each file and
+    the summary are complete."""
+
+    def test_same_numbers_as_one_after_the_other(self):
+        for solver in ("dem", "fem"):
+            at_once, in_turn = io.read(RUN, solver), io.read(RUN_IN_TURN, solver)
+            self.assertEqual(int(at_once.metadata["threads"]), 2)
+            for key in ("drag", "lift", "torque"):
+                self.assertEqual(float(at_once.means[key]), float(in_turn.means[key]),
+                                 f"{solver} {key}")
+            for name in ("surface/sigma_n", "surface/sigma_t"):
+                self.assertTrue((at_once[name] == in_turn[name]).all(), f"{solver} {name}")
+            self.assertEqual(io.summary(RUN, solver)["drag"], float(at_once.means["drag"]))
 
 
 class InstalledScriptsUseTheInstalledPackage(unittest.TestCase):

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 
 #include "grainlift/shared/case/case_loader.h"
 #include "grainlift/shared/errors.h"
@@ -125,4 +128,80 @@ TEST(RunDriver, SolversThatFinishedAreSummarisedWhenALaterOneFails) {
   const std::string json = slurp(out / "summary.json");
   EXPECT_NE(json.find("\"dem\""), std::string::npos) << json;
   EXPECT_EQ(json.find("\"fem\""), std::string::npos) << json;
+}
+
+namespace {
+/// Two fake solvers that each wait (up to 30 s) until the other has started: run one after
+/// the other, the first would wait out its whole timeout.
+struct Rendezvous {
+  std::mutex m;
+  std::condition_variable cv;
+  int started = 0;
+  /// Marks a start and waits for both; true when both started within the timeout.
+  bool meet() {
+    std::unique_lock<std::mutex> lock(m);
+    ++started;
+    cv.notify_all();
+    return cv.wait_for(lock, std::chrono::seconds(30), [&] { return started == 2; });
+  }
+};
+
+SolverEntry meeting(const std::string& name, double drag, Rendezvous& r, bool& met) {
+  SolverEntry e = fake(name, drag, -1, false);
+  const auto inner = e.run;
+  e.run = [inner, &r, &met](const Case& c, const RunOptions& o, ProgressReporter& p) {
+    met = r.meet();
+    return inner(c, o, p);
+  };
+  return e;
+}
+}  // namespace
+
+// `--threads 2` with both solvers (RunOptions::side_by_side): the DEM and the continuum run at
+// once, each solver's file and the summary are what they are when the two run in turn, and
+// the results come back in the solvers' order.
+TEST(RunDriver, SideBySideSolversRunAtOnceAndWriteTheSameFiles) {
+  const fs::path out =
+      fs::temp_directory_path() / ("grainlift_driver4_" + std::to_string(getpid()));
+  const Case c = parse_case(case_text, "fake.toml");
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.progress = false;
+  opt.side_by_side = true;
+  Rendezvous r;
+  bool dem_met = false, fem_met = false;
+  const auto results =
+      run_solvers(c, {meeting("dem", 10, r, dem_met), meeting("fem", 12, r, fem_met)}, opt);
+  EXPECT_TRUE(dem_met && fem_met) << "the solvers did not run at the same time";
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[0].meta.solver, "dem");
+  EXPECT_EQ(results[1].meta.solver, "fem");
+  EXPECT_DOUBLE_EQ(read_result((out / "dem.h5").string()).means->drag, 10);
+  EXPECT_DOUBLE_EQ(read_result((out / "fem.h5").string()).means->drag, 12);
+  const std::string json = slurp(out / "summary.json");
+  EXPECT_NE(json.find("\"compare\""), std::string::npos) << json;
+  // drag_rel = (12 - 10) / 10, as in turn (WritesFilesAndSummaryWithStableNames)
+  EXPECT_NE(json.find("\"drag_rel\": 0.2"), std::string::npos) << json;
+}
+
+// Side by side, a solver that fails does not take the other's result with it: the other's
+// file is written and summarised, and the failure still ends the command (exit 1).
+TEST(RunDriver, SideBySideFailureKeepsTheOtherSolversResult) {
+  const fs::path out =
+      fs::temp_directory_path() / ("grainlift_driver5_" + std::to_string(getpid()));
+  const Case c = parse_case(case_text, "fake.toml");
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.progress = false;
+  opt.side_by_side = true;
+  SolverEntry broken = fake("dem", 0, 0, false);
+  broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
+    throw RunError("diverged at step 12");
+  };
+  EXPECT_THROW(run_solvers(c, {broken, fake("fem", 12, -1, false)}, opt), RunError);
+  EXPECT_DOUBLE_EQ(read_result((out / "fem.h5").string()).means->drag, 12);
+  EXPECT_FALSE(fs::exists(out / "dem.h5"));
+  const std::string json = slurp(out / "summary.json");
+  EXPECT_NE(json.find("\"fem\""), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"dem\""), std::string::npos) << json;
 }

@@ -5,8 +5,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 
 namespace grainlift {
+
+namespace {
+/// Held while a reporter writes: lines of reporters on different threads do not interleave.
+std::mutex print_mutex;
+}  // namespace
 
 std::string format_duration(double s) {
   if (!std::isfinite(s) || s < 0) return "?";
@@ -16,13 +22,15 @@ std::string format_duration(double s) {
   return fmt::format("{}h{:02d}m", t / 3600, int((t % 3600) / 60));
 }
 
-ProgressReporter::ProgressReporter(std::string label, bool enabled)
-    : label_(std::move(label)), enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0),
+ProgressReporter::ProgressReporter(std::string label, bool enabled, bool own_line)
+    : label_(std::move(label)), enabled_(enabled),
+      tty_(own_line && ::isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()), phase_start_(start_), last_print_(start_) {}
 
 void ProgressReporter::update(double fraction, const std::string& phase,
                               const std::string& detail) {
   if (!enabled_) return;
+  const std::lock_guard<std::mutex> lock(print_mutex);
   const auto now = std::chrono::steady_clock::now();
   if (phase != phase_) {
     if (open_line_) std::fputc('\n', stderr);
@@ -54,6 +62,7 @@ void ProgressReporter::update(double fraction, const std::string& phase,
 
 void ProgressReporter::message(const std::string& text) {
   if (!enabled_) return;
+  const std::lock_guard<std::mutex> lock(print_mutex);
   if (open_line_) std::fputc('\n', stderr);
   open_line_ = false;
   std::fprintf(stderr, "[%s] %s\n", label_.c_str(), text.c_str());
@@ -62,6 +71,7 @@ void ProgressReporter::message(const std::string& text) {
 
 void ProgressReporter::finish() {
   if (!enabled_) return;
+  const std::lock_guard<std::mutex> lock(print_mutex);
   if (open_line_) std::fputc('\n', stderr);
   open_line_ = false;
   const double total =

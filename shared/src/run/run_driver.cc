@@ -7,8 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <exception>
 #include <filesystem>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include "grainlift/shared/results/atomic_file.h"
 #include "grainlift/shared/results/compare.h"
@@ -174,6 +177,40 @@ void write_solver_files_or_rescue(const std::string& out_dir, const std::string&
                                "you want it.", e.what(), rescue.string(), solver));
   }
 }
+
+/// One solver's run: its progress, partial results and files; @p io serialises the driver's
+/// writes and reads of the result files (HDF5 is not thread-safe) when solvers run side by side.
+RunResult run_one(const Case& c, const SolverEntry& solver, const RunOptions& options,
+                  bool own_line, std::mutex& io) {
+  ProgressReporter progress(solver.name, options.progress, own_line);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunOptions solver_options = options;
+  if (options.writer) {
+    solver_options.save_partial = [&](RunResult partial) {
+      stamp(partial, c, solver.name, options, t0);
+      partial.meta.partial = true;
+      // an intermediate result that cannot be written is a warning: the solve goes on
+      try {
+        const std::lock_guard<std::mutex> lock(io);
+        remake_if_removed(options.out_dir, progress);
+        write_solver_files(options.out_dir, solver.name, partial);
+        write_summary(options.out_dir, c.source.hash);
+      } catch (const RunError& e) {
+        progress.message(fmt::format("warning: intermediate result not written, the run "
+                                     "goes on: {}", e.what()));
+      }
+    };
+  }
+  RunResult r = solver.run(c, solver_options, progress);
+  stamp(r, c, solver.name, options, t0);
+  if (options.writer) {
+    const std::lock_guard<std::mutex> lock(io);
+    remake_if_removed(options.out_dir, progress);
+    write_solver_files_or_rescue(options.out_dir, solver.name, r, c.source.hash);
+  }
+  progress.finish();
+  return r;
+}
 }  // namespace
 
 std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
@@ -183,42 +220,43 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
     make_directories(options.out_dir);
     lock.emplace(options.out_dir);
   }
+  std::mutex io;
   std::vector<RunResult> results;
+  if (options.side_by_side && solvers.size() > 1) {
+    // Every solver but the last on a thread of its own, the last on this one (the continuum,
+    // listed last, then makes its MPI calls from the main thread); each result kept in the
+    // solvers' order. A solver that fails does not stop the others: their files are written,
+    // the summary lists them, and the first failure in the solvers' order propagates.
+    const std::size_t n = solvers.size();
+    std::vector<std::optional<RunResult>> done(n);
+    std::vector<std::exception_ptr> failed(n);
+    auto run_at = [&](std::size_t k) {
+      try {
+        done[k] = run_one(c, solvers[k], options, false, io);
+      } catch (...) {
+        failed[k] = std::current_exception();
+      }
+    };
+    std::vector<std::thread> others;
+    for (std::size_t k = 0; k + 1 < n; ++k) others.emplace_back(run_at, k);
+    run_at(n - 1);
+    for (auto& t : others) t.join();
+    for (auto& r : done)
+      if (r) results.push_back(std::move(*r));
+    if (options.writer && !results.empty()) write_summary(options.out_dir, c.source.hash);
+    for (const auto& f : failed)
+      if (f) std::rethrow_exception(f);
+    return results;
+  }
   for (const auto& solver : solvers) {
-    ProgressReporter progress(solver.name, options.progress);
-    const auto t0 = std::chrono::steady_clock::now();
-    RunOptions solver_options = options;
-    if (options.writer) {
-      solver_options.save_partial = [&](RunResult partial) {
-        stamp(partial, c, solver.name, options, t0);
-        partial.meta.partial = true;
-        // an intermediate result that cannot be written is a warning: the solve goes on
-        try {
-          remake_if_removed(options.out_dir, progress);
-          write_solver_files(options.out_dir, solver.name, partial);
-          write_summary(options.out_dir, c.source.hash);
-        } catch (const RunError& e) {
-          progress.message(fmt::format("warning: intermediate result not written, the run "
-                                       "goes on: {}", e.what()));
-        }
-      };
-    }
-    RunResult r;
     try {
-      r = solver.run(c, solver_options, progress);
+      results.push_back(run_one(c, solver, options, true, io));
     } catch (...) {
       // The solvers that finished keep their files; the summary lists them before the
       // failure propagates (exit code 1 or 2).
       if (!results.empty() && options.writer) write_summary(options.out_dir, c.source.hash);
       throw;
     }
-    stamp(r, c, solver.name, options, t0);
-    if (options.writer) {
-      remake_if_removed(options.out_dir, progress);
-      write_solver_files_or_rescue(options.out_dir, solver.name, r, c.source.hash);
-    }
-    progress.finish();
-    results.push_back(std::move(r));
     if (interrupt_signal()) break;  // the next solvers do not start
   }
   if (options.writer) write_summary(options.out_dir, c.source.hash);

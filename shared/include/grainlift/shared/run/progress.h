@@ -9,8 +9,10 @@ namespace grainlift {
 
 class ProgressReporter {
  public:
-  /// @param label prefix such as "dem"; @param enabled false silences it.
-  ProgressReporter(std::string label, bool enabled);
+  /// @param label prefix such as "dem"; @param enabled false silences it; @param own_line
+  /// false: one line per 10% on a terminal too (reporters of solvers that run side by side
+  /// would overwrite each other's line). Reporters print whole lines, one at a time.
+  ProgressReporter(std::string label, bool enabled, bool own_line = true);
   /// @param fraction done in [0, 1]; @param phase short name ("packing", "run", "newton").
   /// @param detail appended to the line (a current error, ...); changing it starts no new line.
   void update(double fraction, const std::string& phase, const std::string& detail = "");

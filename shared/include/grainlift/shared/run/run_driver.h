@@ -24,6 +24,11 @@ struct RunOptions {
   bool writer = true;
   /// go on from the checkpoint in out_dir (DEM: <out_dir>/dem.checkpoint)
   bool resume = false;
+  /// run the solvers at once, each on a thread of its own, instead of one after the other
+  /// (`grainlift run` sets it for both solvers with --threads >= 2, one replica, one process:
+  /// the continuum takes one core while the DEM runs beside it, and the DEM's own choice of
+  /// one thread or its team, timed as it runs, takes the cores the continuum leaves)
+  bool side_by_side = false;
   /// Set by run_solvers for each solver (empty when nothing is written): writes an
   /// intermediate result as <out_dir>/<solver>.h5, marked partial, metadata filled in, so a
   /// run killed later keeps it (the continuum: each converged mesh before it is refined).
@@ -39,7 +44,8 @@ struct SolverEntry {
   std::function<RunResult(const Case&, const RunOptions&, ProgressReporter&)> run;
 };
 
-/// @brief Run @p solvers in order on @p c and write their files; returns the results.
+/// @brief Run @p solvers on @p c (in order, or side by side: RunOptions::side_by_side) and
+/// write their files; returns the results in the solvers' order.
 std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>& solvers,
                                    const RunOptions& options);
 
