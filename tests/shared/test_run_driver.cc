@@ -68,14 +68,21 @@ std::string slurp(const fs::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+/// Quiet options writing to a folder of the temporary directory named @p name and this
+/// process.
+RunOptions quiet_options(const std::string& name) {
+  RunOptions opt;
+  opt.out_dir = (fs::temp_directory_path() / (name + "_" + std::to_string(getpid()))).string();
+  opt.progress = false;
+  return opt;
+}
+
 }  // namespace
 
 TEST(RunDriver, WritesFilesAndSummaryWithStableNames) {
-  const fs::path out = fs::temp_directory_path() / ("grainlift_driver_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml", {"intruder.omega=3.0"});
-  RunOptions opt;
-  opt.out_dir = out.string();
-  opt.progress = false;
+  RunOptions opt = quiet_options("grainlift_driver");
+  const fs::path out = opt.out_dir;
   run_solvers(c, {fake("dem", 10, -2, true), fake("fem", 12, -1, false)}, opt);
 
   const RunResult dem = read_result((out / "dem.h5").string());
@@ -97,12 +104,9 @@ TEST(RunDriver, WritesFilesAndSummaryWithStableNames) {
 }
 
 TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
-  const fs::path out =
-      fs::temp_directory_path() / ("grainlift_driver2_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml");
-  RunOptions opt;
-  opt.out_dir = out.string();
-  opt.progress = false;
+  RunOptions opt = quiet_options("grainlift_driver2");
+  const fs::path out = opt.out_dir;
   run_solvers(c, {fake("dem", 10, -2, true)}, opt);
   SolverEntry broken = fake("dem", 0, 0, false);
   broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
@@ -114,12 +118,9 @@ TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
 }
 
 TEST(RunDriver, SolversThatFinishedAreSummarisedWhenALaterOneFails) {
-  const fs::path out =
-      fs::temp_directory_path() / ("grainlift_driver3_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml");
-  RunOptions opt;
-  opt.out_dir = out.string();
-  opt.progress = false;
+  RunOptions opt = quiet_options("grainlift_driver3");
+  const fs::path out = opt.out_dir;
   SolverEntry broken = fake("fem", 0, 0, false);
   broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
     throw RunError("did not converge");
@@ -161,12 +162,9 @@ SolverEntry meeting(const std::string& name, double drag, Rendezvous& r, bool& m
 // once, each solver's file and the summary are what they are when the two run in turn, and
 // the results come back in the solvers' order.
 TEST(RunDriver, SideBySideSolversRunAtOnceAndWriteTheSameFiles) {
-  const fs::path out =
-      fs::temp_directory_path() / ("grainlift_driver4_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml");
-  RunOptions opt;
-  opt.out_dir = out.string();
-  opt.progress = false;
+  RunOptions opt = quiet_options("grainlift_driver4");
+  const fs::path out = opt.out_dir;
   opt.side_by_side = true;
   Rendezvous r;
   bool dem_met = false, fem_met = false;
@@ -187,12 +185,9 @@ TEST(RunDriver, SideBySideSolversRunAtOnceAndWriteTheSameFiles) {
 // Side by side, a solver that fails does not take the other's result with it: the other's
 // file is written and summarised, and the failure still ends the command (exit 1).
 TEST(RunDriver, SideBySideFailureKeepsTheOtherSolversResult) {
-  const fs::path out =
-      fs::temp_directory_path() / ("grainlift_driver5_" + std::to_string(getpid()));
   const Case c = parse_case(case_text, "fake.toml");
-  RunOptions opt;
-  opt.out_dir = out.string();
-  opt.progress = false;
+  RunOptions opt = quiet_options("grainlift_driver5");
+  const fs::path out = opt.out_dir;
   opt.side_by_side = true;
   SolverEntry broken = fake("dem", 0, 0, false);
   broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
