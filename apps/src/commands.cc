@@ -316,7 +316,7 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& cal) {
                         "multiplies each point's run-in and window strain (--nonlocal: travel)")
       ->check(CLI::Range(0.02, 100.0))
       ->capture_default_str();
-  calibrate->add_option("--threads", cal.threads, "threads for the DEM")
+  calibrate->add_option("--threads", cal.threads, "threads: the points (--nonlocal: seeds) at once")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   calibrate->add_flag("--quiet", cal.quiet, "no line per point");

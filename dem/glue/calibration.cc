@@ -3,14 +3,19 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <vector>
 
 #include "grainlift/dem/dem_solver.h"
+#include "grainlift/dem/bed/packing.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/dem/scenes/shear_cell.h"
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/run/run_driver.h"
+#include "grainlift/shared/run/side_by_side.h"
 
 namespace grainlift::dem {
 
@@ -30,20 +35,36 @@ ShearCellConfig case_shear_cell(const Case& c, double pressure, int threads, dou
   return cell;
 }
 
+namespace {
+/// The line `calibrate` prints for a point (@p note: why it was measured, or "").
+std::string point_line(const CalibrationPoint& p, const std::string& note) {
+  if (!p.failure.empty()) {
+    return fmt::format("I target {:<6.3g} FAILED, left out of the fit ({:.1f} s){}: {}",
+                       p.target_I, p.wall_seconds, note, p.failure);
+  }
+  return fmt::format("I target {:<6.3g} measured {:.4g}: mu {:.4f} +- {:.4f}, Phi {:.4f} +- "
+                     "{:.4f}, profile R^2 {:.3f}{}{} ({:.1f} s){}",
+                     p.target_I, p.point.I, p.point.mu, p.point.mu_stderr, p.point.phi,
+                     p.point.phi_stderr, p.profile_r2, p.steady ? "" : ", NOT steady",
+                     p.fitted ? "" : ", shear-banded or no error: left out of the fit",
+                     p.wall_seconds, note);
+}
+}  // namespace
+
 Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
                                const std::function<void(const std::string&)>& say) {
   const ShearCellConfig base = case_shear_cell(c, o.pressure, o.threads, o.width, o.height);
   const double pressure = base.pressure;
   Calibration cal;
   std::vector<ShearPoint> fit_points;
-  // One point: run, report, keep. Returns false when the cell could not run it.
-  auto measure = [&](double target, const std::string& note) {
+  // One point on @p cell: run and measure (a cell that cannot run it: the point's failure).
+  auto run_point = [&](const ShearCellConfig& cell, double target) {
     const auto t0 = std::chrono::steady_clock::now();
     CalibrationPoint p;
     p.target_I = target;
     ShearCellResult r;
     try {
-      r = run_shear_cell(shear_cell_at(base, target, o.strain_scale));
+      r = run_shear_cell(shear_cell_at(cell, target, o.strain_scale));
     } catch (const ConfigError& e) {
       throw InputError(
           fmt::format("{}: shear cell at I = {}: {}", c.source.path, target, e.what()));
@@ -51,41 +72,63 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
       p.failure = e.what();
     }
     p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!p.failure.empty()) {
-      say(fmt::format("I target {:<6.3g} FAILED, left out of the fit ({:.1f} s){}: {}", target,
-                      p.wall_seconds, note, p.failure));
-      cal.points.push_back(p);
-      return false;
-    }
+    if (!p.failure.empty()) return p;
     p.point = {r.inertial_number, r.friction.mean, r.friction.se, r.area_fraction.mean,
                r.area_fraction.se};
     p.steady = r.steady;
     p.profile_r2 = r.profile_r2;
     p.fitted = r.profile_r2 >= o.min_profile_r2 && p.point.mu_stderr > 0 && p.point.phi_stderr > 0;
-    say(fmt::format("I target {:<6.3g} measured {:.4g}: mu {:.4f} +- {:.4f}, Phi {:.4f} +- "
-                    "{:.4f}, profile R^2 {:.3f}{}{} ({:.1f} s){}",
-                    target, p.point.I, p.point.mu, p.point.mu_stderr, p.point.phi,
-                    p.point.phi_stderr, p.profile_r2, p.steady ? "" : ", NOT steady",
-                    p.fitted ? "" : ", shear-banded or no error: left out of the fit",
-                    p.wall_seconds, note));
-    if (p.fitted) fit_points.push_back(p.point);
-    cal.points.push_back(p);
-    return true;
+    return p;
   };
+  auto report = [&](const CalibrationPoint& p, const std::string& note) {
+    say(point_line(p, note));
+  };
+  auto keep = [&](const CalibrationPoint& p) {
+    if (p.failure.empty() && p.fitted) fit_points.push_back(p.point);
+    cal.points.push_back(p);
+  };
+  // The targets side by side, as many at once as there are threads (a cell of a few hundred
+  // grains gains little from a team of threads; independent cells about one core each),
+  // reported in order; the DEM gives the same bits on any number of threads, so the points
+  // are those of one after the other. A bed not cached yet is packed (and cached) by the
+  // first point alone, so that the others load it instead of each packing it again.
+  const std::size_t n = o.inertial_numbers.size();
+  std::vector<CalibrationPoint> first(n);
+  const int workers = std::max(1, std::min(o.threads, static_cast<int>(n)));
+  ShearCellConfig each = base;
+  each.grains.threads = std::max(1, o.threads / workers);
+  std::size_t from = 0;
+  if (n > 1 && workers > 1) {
+    const ShearCellConfig cell0 = shear_cell_at(base, o.inertial_numbers[0], o.strain_scale);
+    const std::string bed = packing_cache_path(shear_cell_dem_config(cell0));
+    if (!bed.empty() && !std::filesystem::exists(bed)) {
+      first[0] = run_point(base, o.inertial_numbers[0]);
+      report(first[0], "");
+      from = 1;
+    }
+  }
+  side_by_side(
+      n - from, workers,
+      [&](std::size_t k) { first[from + k] = run_point(each, o.inertial_numbers[from + k]); },
+      [&](std::size_t k) { report(first[from + k], ""); });
   // A target the cell cannot run (too fast for soft grains: overlaps) above one it ran is
   // tried once more half way between them on a log scale, so the fit keeps the upper end of
   // the range the grains allow (mu_2 and I0 are set there).
   double last_run = 0;
-  for (const double target : o.inertial_numbers) {
-    if (measure(target, "")) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const double target = o.inertial_numbers[k];
+    keep(first[k]);
+    if (first[k].failure.empty()) {
       last_run = target;
       continue;
     }
     if (last_run > 0 && last_run < target) {
       const double between = std::sqrt(last_run * target);
-      if (measure(between, fmt::format(" (between {:g} and {:g}, which the cell could not run)",
-                                       last_run, target)))
-        last_run = between;
+      const CalibrationPoint p = run_point(base, between);
+      report(p, fmt::format(" (between {:g} and {:g}, which the cell could not run)", last_run,
+                            target));
+      keep(p);
+      if (p.failure.empty()) last_run = between;
     }
   }
   if (fit_points.size() < 4)

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "grainlift/dem/calibration.h"
 #include "grainlift/dem/errors.h"
 #include "grainlift/shared/errors.h"
+#include "grainlift/shared/run/side_by_side.h"
 #include "grainlift/shared/statistics/statistics.h"
 
 namespace grainlift::dem {
@@ -105,31 +107,44 @@ CreepCalibration calibrate_cooperativity(const Case& c, const CreepOptions& o, c
   const FluidityMaterial material{law.mu_s, law.mu_2, law.I0, g.density, d};
   std::vector<CreepProfile> beds;
   std::vector<double> a, a_err;
-  for (int k = 0; k < o.seeds; ++k) {
-    ShearCellConfig one = cell;
-    one.grains.seed = cell.grains.seed + static_cast<std::uint64_t>(k);
+  // The seeds' beds side by side, as many at once as there are threads (one thread each when
+  // there are more seeds than threads), each reported in order with its own A as it ends.
+  const std::size_t n = static_cast<std::size_t>(std::max(0, o.seeds));
+  const int workers = std::max(1, std::min(o.threads, o.seeds));
+  std::vector<ShearCellConfig> cells(n, cell);
+  std::vector<double> seconds(n, 0.0);
+  out.cells.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    cells[k].grains.seed = cell.grains.seed + static_cast<std::uint64_t>(k);
+    cells[k].grains.threads = std::max(1, o.threads / workers);
+  }
+  auto run = [&](std::size_t k) {
     const auto t1 = std::chrono::steady_clock::now();
     try {
-      out.cells.push_back(run_shear_cell(one));
+      out.cells[k] = run_shear_cell(cells[k]);
     } catch (const ConfigError& e) {
       throw InputError(fmt::format("{}: creeping-layer cell: {}", c.source.path, e.what()));
     } catch (const RunFailure& e) {
       throw RunError(fmt::format("{}: creeping-layer cell: {}", c.source.path, e.what()));
     }
-    const ShearCellResult& r = out.cells.back();
+    seconds[k] = seconds_since(t1);
+  };
+  auto report = [&](std::size_t k) {
+    const ShearCellResult& r = out.cells[k];
     beds.push_back(profile_of(r, d, cell.wall_layer));
     // each bed's own A, with the profile's error only (mu_s's is common to all beds)
     const CooperativityFit f = fit_cooperativity(beds.back(), material, 0.0, o.fit);
     if (f.ok) a.push_back(f.amplitude), a_err.push_back(f.amplitude_err);
     say(fmt::format("seed {}: tau {:.4g} +- {:.2g} N/m, mu at the lid {:.4f}, {}steady; A {} "
                     "({:.1f} s)",
-                    one.grains.seed, r.shear_stress.mean, r.shear_stress.se, r.friction.mean,
-                    r.steady ? "" : "NOT ",
+                    cells[k].grains.seed, r.shear_stress.mean, r.shear_stress.se,
+                    r.friction.mean, r.steady ? "" : "NOT ",
                     f.ok ? fmt::format("{:.3f} +- {:.3f} (chi2/dof {:.2f}, C {:.2f})", f.amplitude,
                                        f.amplitude_err, f.chi2_per_dof, f.scale)
                          : "not determined: " + f.message,
-                    seconds_since(t1)));
-  }
+                    seconds[k]));
+  };
+  side_by_side(n, workers, run, report);
   out.profile = pooled_profile(beds, cell.wall_layer * d);
   out.fit = fit_cooperativity(out.profile, material, law.mu_s_err, o.fit);
   out.profile_fit_amplitude = out.fit.amplitude;

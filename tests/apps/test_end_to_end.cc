@@ -292,16 +292,26 @@ TEST(EndToEnd, TooLargeTimeStepIsBadInput) {
 // measured 0.29, 0.26 at I = 0.017, 0.024 and 0.35, 0.33 at I = 0.41, 0.65: a margin of 0.14
 // for the 0.05 asserted), with a static friction mu_s of frictional disks between 0.1 and 0.4
 // (da Cruz et al. 2005: about 0.26) and a random packing below 0.84. A case with no pressure of
-// its own and no --pressure is bad input.
+// its own and no --pressure is bad input. With --threads 2 the points run side by side (two at
+// a time, one thread each): the file is the one of --threads 1, byte for byte (the DEM's bits do
+// not depend on its threads; the points are kept and fitted in the targets' order).
 TEST(EndToEnd, CalibrateWritesAFittedRheologyFile) {
   const fs::path dir = scratch();
   const fs::path case_file = dir / "calibrate.toml";
   std::ofstream(case_file) << tiny_case;
-  const fs::path law = dir / "law.toml";
-  std::string out;
-  const int rc = run("calibrate " + case_file.string() + " --pressure 500 --inertial-numbers 0.01 "
-                     "0.03 0.1 0.2 0.5 --strain-scale 0.5 --out " + law.string(), &out);
+  const fs::path law = dir / "law.toml", law_one = dir / "law_one_thread.toml";
+  std::string out, out_one;
+  const std::string sweep = "calibrate " + case_file.string() + " --pressure 500 "
+                            "--inertial-numbers 0.01 0.03 0.1 0.2 0.5 --strain-scale 0.5 --out ";
+  const int rc = run(sweep + law.string() + " --threads 2", &out);
   ASSERT_EQ(rc, 0) << out;
+  ASSERT_EQ(run(sweep + law_one.string() + " --threads 1", &out_one), 0) << out_one;
+  auto text = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::string t((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return t;
+  };
+  EXPECT_EQ(text(law), text(law_one));
   EXPECT_NE(out.find("rheology file: " + law.string()), std::string::npos) << out;
   const RheologyFile f = read_rheology_file(law.string());
   ASSERT_GE(f.points.size(), 4u) << out;
@@ -405,8 +415,9 @@ packing_cache = ""
 )";
   const fs::path law = dir / "law.toml";
   std::string out;
+  // two threads: the points side by side, the retry after them (the file in the targets' order)
   const int rc = run("calibrate " + case_file.string() + " --inertial-numbers 0.01 0.03 0.1 "
-                     "0.2 0.5 --out " + law.string(), &out);
+                     "0.2 0.5 --threads 2 --out " + law.string(), &out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("I target 0.5    FAILED, left out of the fit"), std::string::npos) << out;
   EXPECT_NE(out.find("overlap"), std::string::npos) << out;
