@@ -80,9 +80,6 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
     p.fitted = r.profile_r2 >= o.min_profile_r2 && p.point.mu_stderr > 0 && p.point.phi_stderr > 0;
     return p;
   };
-  auto report = [&](const CalibrationPoint& p, const std::string& note) {
-    say(point_line(p, note));
-  };
   auto keep = [&](const CalibrationPoint& p) {
     if (p.failure.empty() && p.fitted) fit_points.push_back(p.point);
     cal.points.push_back(p);
@@ -103,14 +100,14 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
     const std::string bed = packing_cache_path(shear_cell_dem_config(cell0));
     if (!bed.empty() && !std::filesystem::exists(bed)) {
       first[0] = run_point(base, o.inertial_numbers[0]);
-      report(first[0], "");
+      say(point_line(first[0], ""));
       from = 1;
     }
   }
   side_by_side(
       n - from, workers,
       [&](std::size_t k) { first[from + k] = run_point(each, o.inertial_numbers[from + k]); },
-      [&](std::size_t k) { report(first[from + k], ""); });
+      [&](std::size_t k) { say(point_line(first[from + k], "")); });
   // A target the cell cannot run (too fast for soft grains: overlaps) above one it ran is
   // tried once more half way between them on a log scale, so the fit keeps the upper end of
   // the range the grains allow (mu_2 and I0 are set there).
@@ -125,8 +122,8 @@ Calibration calibrate_rheology(const Case& c, const CalibrationOptions& o,
     if (last_run > 0 && last_run < target) {
       const double between = std::sqrt(last_run * target);
       const CalibrationPoint p = run_point(base, between);
-      report(p, fmt::format(" (between {:g} and {:g}, which the cell could not run)", last_run,
-                            target));
+      say(point_line(p, fmt::format(" (between {:g} and {:g}, which the cell could not run)",
+                                    last_run, target)));
       keep(p);
       if (p.failure.empty()) last_run = between;
     }

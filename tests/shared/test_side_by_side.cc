@@ -16,9 +16,12 @@
 using grainlift::side_by_side;
 
 // Ten pieces on three threads, the early ones slower (as the slow low-I points are listed
-// first): each runs once, at least two at the same time, and the reports are 0, 1, ..., 9.
+// first): each runs once, at least two at the same time, the last on this thread (where the
+// continuum must make its MPI calls), and the reports are 0, 1, ..., 9.
 TEST(SideBySide, EachPieceOnceSeveralAtOnceReportsInOrder) {
   constexpr std::size_t n = 10;
+  const auto self = std::this_thread::get_id();
+  std::thread::id last_on;
   std::vector<std::atomic<int>> runs(n);
   std::atomic<int> now{0}, most{0};
   std::mutex m;
@@ -30,6 +33,7 @@ TEST(SideBySide, EachPieceOnceSeveralAtOnceReportsInOrder) {
         int seen = most.load();
         while (at_once > seen && !most.compare_exchange_weak(seen, at_once)) continue;
         std::this_thread::sleep_for(std::chrono::milliseconds(5 * static_cast<int>(n - k)));
+        if (k == n - 1) last_on = std::this_thread::get_id();
         ++runs[k];
         --now;
       },
@@ -40,6 +44,7 @@ TEST(SideBySide, EachPieceOnceSeveralAtOnceReportsInOrder) {
   for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(runs[k], 1) << k;
   EXPECT_GE(most, 2);
   EXPECT_LE(most, 3);
+  EXPECT_EQ(last_on, self);
   ASSERT_EQ(reports.size(), n);
   for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(reports[k], k);
 }

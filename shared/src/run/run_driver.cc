@@ -7,11 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
-#include <exception>
 #include <filesystem>
 #include <mutex>
 #include <optional>
-#include <thread>
 
 #include "grainlift/shared/results/atomic_file.h"
 #include "grainlift/shared/results/compare.h"
@@ -19,6 +17,7 @@
 #include "grainlift/shared/errors.h"
 #include "grainlift/shared/run/interrupt.h"
 #include "grainlift/shared/run/output_lock.h"
+#include "grainlift/shared/run/side_by_side.h"
 #include "grainlift/shared/results/json_writer.h"
 #include "grainlift/shared/results/result_file.h"
 
@@ -223,29 +222,26 @@ std::vector<RunResult> run_solvers(const Case& c, const std::vector<SolverEntry>
   std::mutex io;
   std::vector<RunResult> results;
   if (options.side_by_side && solvers.size() > 1) {
-    // Every solver but the last on a thread of its own, the last on this one (the continuum,
-    // listed last, then makes its MPI calls from the main thread); each result kept in the
-    // solvers' order. A solver that fails does not stop the others: their files are written,
-    // the summary lists them, and the first failure in the solvers' order propagates.
-    const std::size_t n = solvers.size();
-    std::vector<std::optional<RunResult>> done(n);
-    std::vector<std::exception_ptr> failed(n);
-    auto run_at = [&](std::size_t k) {
-      try {
-        done[k] = run_one(c, solvers[k], options, false, io);
-      } catch (...) {
-        failed[k] = std::current_exception();
-      }
+    // Every solver on a thread of its own, the last (the continuum, listed last) on this one,
+    // where it makes its MPI calls (side_by_side.h). A solver that fails does not stop the
+    // others: their files are written, the summary lists them, and the first failure in the
+    // solvers' order propagates.
+    std::vector<std::optional<RunResult>> done(solvers.size());
+    auto finished = [&] {
+      for (auto& r : done)
+        if (r) results.push_back(std::move(*r));
+      if (options.writer && !results.empty()) write_summary(options.out_dir, c.source.hash);
     };
-    std::vector<std::thread> others;
-    for (std::size_t k = 0; k + 1 < n; ++k) others.emplace_back(run_at, k);
-    run_at(n - 1);
-    for (auto& t : others) t.join();
-    for (auto& r : done)
-      if (r) results.push_back(std::move(*r));
-    if (options.writer && !results.empty()) write_summary(options.out_dir, c.source.hash);
-    for (const auto& f : failed)
-      if (f) std::rethrow_exception(f);
+    try {
+      side_by_side(
+          solvers.size(), static_cast<int>(solvers.size()),
+          [&](std::size_t k) { done[k] = run_one(c, solvers[k], options, false, io); },
+          [](std::size_t) {});
+    } catch (...) {
+      finished();
+      throw;
+    }
+    finished();
     return results;
   }
   for (const auto& solver : solvers) {

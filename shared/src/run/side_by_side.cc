@@ -17,37 +17,43 @@ void side_by_side(std::size_t n, int workers, const std::function<void(std::size
   std::vector<std::exception_ptr> failed(n);
   std::size_t reported = 0;
   bool stopped = false;  // a run that threw: no report past it
-  auto work = [&] {
-    for (std::size_t k; (k = next.fetch_add(1)) < n;) {
-      std::exception_ptr e;
+  // one piece: run, then the reports it completes
+  auto piece = [&](std::size_t k) {
+    std::exception_ptr e;
+    try {
+      run(k);
+    } catch (...) {
+      e = std::current_exception();
+    }
+    const std::lock_guard<std::mutex> lock(m);
+    ended[k] = 1;
+    failed[k] = e;
+    while (!stopped && reported < n && ended[reported]) {
+      if (failed[reported]) {
+        stopped = true;
+        break;
+      }
       try {
-        run(k);
+        report(reported);
       } catch (...) {
-        e = std::current_exception();
+        failed[reported] = std::current_exception();
+        stopped = true;
+        break;
       }
-      const std::lock_guard<std::mutex> lock(m);
-      ended[k] = 1;
-      failed[k] = e;
-      while (!stopped && reported < n && ended[reported]) {
-        if (failed[reported]) {
-          stopped = true;
-          break;
-        }
-        try {
-          report(reported);
-        } catch (...) {
-          failed[reported] = std::current_exception();
-          stopped = true;
-          break;
-        }
-        ++reported;
-      }
+      ++reported;
     }
   };
   const std::size_t threads =
       std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, workers)));
+  // with other threads, this one starts with the last piece; the pieces before it are taken
+  // in order by whichever thread is free
+  const std::size_t pooled = threads > 1 ? n - 1 : n;
+  auto work = [&] {
+    for (std::size_t k; (k = next.fetch_add(1)) < pooled;) piece(k);
+  };
   std::vector<std::thread> others;
   for (std::size_t t = 1; t < threads; ++t) others.emplace_back(work);
+  if (pooled < n) piece(n - 1);
   work();
   for (auto& t : others) t.join();
   for (const auto& e : failed)
