@@ -68,6 +68,15 @@ std::string slurp(const fs::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+/// A solver @p name whose run fails with RunError(@p why).
+SolverEntry failing(const std::string& name, const std::string& why) {
+  SolverEntry e = fake(name, 0, 0, false);
+  e.run = [why](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
+    throw RunError(why);
+  };
+  return e;
+}
+
 /// Quiet options writing to a folder of the temporary directory named @p name and this
 /// process.
 RunOptions quiet_options(const std::string& name) {
@@ -108,10 +117,7 @@ TEST(RunDriver, FailingSolverLeavesEarlierFilesComplete) {
   RunOptions opt = quiet_options("grainlift_driver2");
   const fs::path out = opt.out_dir;
   run_solvers(c, {fake("dem", 10, -2, true)}, opt);
-  SolverEntry broken = fake("dem", 0, 0, false);
-  broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
-    throw RunError("diverged at step 12");
-  };
+  const SolverEntry broken = failing("dem", "diverged at step 12");
   EXPECT_THROW(run_solvers(c, {broken}, opt), RunError);
   const RunResult back = read_result((out / "dem.h5").string());
   EXPECT_DOUBLE_EQ(back.means->drag, 10);  // the old complete file survives
@@ -121,10 +127,7 @@ TEST(RunDriver, SolversThatFinishedAreSummarisedWhenALaterOneFails) {
   const Case c = parse_case(case_text, "fake.toml");
   RunOptions opt = quiet_options("grainlift_driver3");
   const fs::path out = opt.out_dir;
-  SolverEntry broken = fake("fem", 0, 0, false);
-  broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
-    throw RunError("did not converge");
-  };
+  const SolverEntry broken = failing("fem", "did not converge");
   EXPECT_THROW(run_solvers(c, {fake("dem", 7, -1, true), broken}, opt), RunError);
   const std::string json = slurp(out / "summary.json");
   EXPECT_NE(json.find("\"dem\""), std::string::npos) << json;
@@ -189,10 +192,7 @@ TEST(RunDriver, SideBySideFailureKeepsTheOtherSolversResult) {
   RunOptions opt = quiet_options("grainlift_driver5");
   const fs::path out = opt.out_dir;
   opt.side_by_side = true;
-  SolverEntry broken = fake("dem", 0, 0, false);
-  broken.run = [](const Case&, const RunOptions&, ProgressReporter&) -> RunResult {
-    throw RunError("diverged at step 12");
-  };
+  const SolverEntry broken = failing("dem", "diverged at step 12");
   EXPECT_THROW(run_solvers(c, {broken, fake("fem", 12, -1, false)}, opt), RunError);
   EXPECT_DOUBLE_EQ(read_result((out / "fem.h5").string()).means->drag, 12);
   EXPECT_FALSE(fs::exists(out / "dem.h5"));
