@@ -3,7 +3,11 @@
 // contact law (contact_law.h) on the touching pairs in batches.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "grainlift/dem/contact/contact_law_batch.h"
 #include "grainlift/dem/system/dem_system.h"
@@ -87,22 +91,30 @@ inline void fill_batch(const PairInputs& in, const LawCoefficients& law, bool no
   }
 }
 /// The pair force (fx, fy) and n x F_t (q) added to grain @p g's sums (the owner gets +F, the
-/// partner -F; both +q) and @p g marked touched; a grain shared between threads is only marked
-/// (its sum is gathered at the kick; another thread may mark it too: a relaxed atomic store).
+/// partner -F; both +q; fx and fy side by side in @p sfxy, added as one pair of lanes: the
+/// same two IEEE additions) and @p g marked touched; a grain shared between threads is only
+/// marked (its sum is gathered at the kick; another thread may mark it too: a relaxed atomic
+/// store).
 template <bool kOwner>
-inline void add_to_grain(int g, bool shared, double fx, double fy, double q, double* sfx,
-                         double* sfy, double* sq, std::uint8_t* touched) {
+inline void add_to_grain(int g, bool shared, double fx, double fy, double q, double* sfxy,
+                         double* sq, std::uint8_t* touched) {
   if (shared) {
     __atomic_store_n(&touched[g], std::uint8_t{1}, __ATOMIC_RELAXED);
     return;
   }
+  double* s = sfxy + 2 * static_cast<std::ptrdiff_t>(g);
+#if defined(__SSE2__)
+  const __m128d f = _mm_set_pd(fy, fx);
+  _mm_store_pd(s, kOwner ? _mm_add_pd(_mm_load_pd(s), f) : _mm_sub_pd(_mm_load_pd(s), f));
+#else
   if (kOwner) {
-    sfx[g] += fx;
-    sfy[g] += fy;
+    s[0] += fx;
+    s[1] += fy;
   } else {
-    sfx[g] -= fx;
-    sfy[g] -= fy;
+    s[0] -= fx;
+    s[1] -= fy;
   }
+#endif
   sq[g] += q;
   touched[g] = 1;
 }
@@ -165,8 +177,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
   const bool store_all = store_pair_forces_ && last_step;
   const bool store_frozen = store_pair_forces_;  // pairs with a frozen disk: every step
   const bool forget_forces = store_pair_forces_ || kTeam;
-  double* sfx = fx_.data();
-  double* sfy = fy_.data();
+  double* sfxy = fxy_.data();
   double* sq = tq_.data();
   std::uint8_t* touched = touched_.data();
   const std::int64_t k0 = nl_.first[lo], k1 = nl_.first[hi];
@@ -232,8 +243,8 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
         pfy[k] = fyb;
         pq[k] = qk;
       }
-      add_to_grain<true>(i, si, fxb, fyb, qk, sfx, sfy, sq, touched);
-      if (j < ng) add_to_grain<false>(j, sj, fxb, fyb, qk, sfx, sfy, sq, touched);
+      add_to_grain<true>(i, si, fxb, fyb, qk, sfxy, sq, touched);
+      if (j < ng) add_to_grain<false>(j, sj, fxb, fyb, qk, sfxy, sq, touched);
       if (!lanes) raise_max_overlap(cb.delta[b], r[i], r[j], max_ov);
     }
   }

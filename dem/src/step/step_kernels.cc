@@ -178,7 +178,8 @@ struct BoxShifts {
 /// has sums +0.0 and gets exactly a0 from the same expressions.
 HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V h, V& kx,
                            V& ky, V& kw) {
-  const V fx = hn::LoadU(d, k.sfx + r), fy = hn::LoadU(d, k.sfy + r);
+  V fx, fy;
+  hn::LoadInterleaved2(d, k.sfxy + 2 * r, fx, fy);
   const V qs = hn::LoadU(d, k.sq + r);
   const V inv_m = hn::LoadU(d, k.inv_m + r);
   // tq = -r qs (the sign of r flipped, as unary minus on a double, then the product)
@@ -190,8 +191,8 @@ HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V
   store_changed(d, ayn, hn::LoadU(d, k.ay + r), k.ay + r);
   store_changed(d, aln, hn::LoadU(d, k.al + r), k.al + r);
   const auto touched = nonzero_bytes(d, k.touched + r);
-  store_where(d, touched, hn::Zero(d), fx, k.sfx + r);
-  store_where(d, touched, hn::Zero(d), fy, k.sfy + r);
+  hn::StoreInterleaved2(hn::IfThenElse(touched, hn::Zero(d), fx),
+                        hn::IfThenElse(touched, hn::Zero(d), fy), d, k.sfxy + 2 * r);
   store_where(d, touched, hn::Zero(d), qs, k.sq + r);
   kx = hn::Mul(h, axn);
   ky = hn::Mul(h, ayn);
@@ -274,7 +275,7 @@ int kick_groups(const PlainKick& k, int i, int hi, double& max_d2) {
     }
     std::memcpy(&f, k.flags + i, 8);
     std::memcpy(&t, k.touched + i, 8);
-    // grains with pair forces summed in sfx, sfy, sq, none touching the intruder
+    // grains with pair forces summed in sfxy, sq, none touching the intruder
     const bool forces = (f | t) != 0;
     if (forces && (f & (kOnes * k.candidate_bit))) break;
     for (std::size_t o = 0; o < 8; o += lanes) {

@@ -39,8 +39,7 @@ struct PlainKick {
   double dt, h, damp;
   double ax0, ay0, al0;  ///< the accelerations of a grain without force
   // the pair-force sums per grain (range_forces), and what the accelerations need
-  double* sfx;
-  double* sfy;
+  double* sfxy;  ///< fx, fy side by side
   double* sq;
   const double* inv_m;
   const double* inv_i;
@@ -56,7 +55,7 @@ struct PlainKick {
 /// @brief From row i on, in groups of eight, what DemSystem::finish_impl does: the second
 /// half kick (and with drift, the next half kick and drift) of grains without any force
 /// (flags and touched 0; groups of eight sleepers are skipped), and also of grains with pair
-/// forces (summed in sfx, sfy, sq) and their accelerations; stops at the first group with a
+/// forces (summed in sfxy, sq) and their accelerations; stops at the first group with a
 /// grain it does not handle (a candidate of the intruder), or fewer than
 /// eight rows before hi. Returns the row where it stopped (i itself when it did nothing or on
 /// the scalar target); max_d2 is raised to the largest squared displacement from (xb, yb) of

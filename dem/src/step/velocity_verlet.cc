@@ -76,8 +76,7 @@ double DemSystem::finish_impl(int lo, int hi) {
   const int* slot = ic_slot_.data();
   std::uint8_t* touched = touched_.data();
   std::uint8_t* flags = grain_flags_.data();
-  double* sfx = fx_.data();
-  double* sfy = fy_.data();
+  double* sfxy = fxy_.data();
   double* sq = tq_.data();
   const double* icfx = ic_.fx.data();
   const double* icfy = ic_.fy.data();
@@ -106,7 +105,7 @@ double DemSystem::finish_impl(int lo, int hi) {
   const bool simd = kMode != Kick::first && detail::vector_enabled();
   const std::uint8_t* dormant = sleep_active_ ? dormant_.data() : nullptr;
   detail::PlainKick plain{px,  py,    vx,    vy,    w,   xb,  yb,  flags, touched, dormant,
-                          dt,  h,     damp,  ax0,   ay0, al0, sfx, sfy,   sq,      inv_m,
+                          dt,  h,     damp,  ax0,   ay0, al0, sfxy,  sq,      inv_m,
                           inv_i, r,   ax,    ay,    al,  gx,  gy,  kCandidate, kAccelSet, box};
   for (int i = lo; i < hi;) {
     if (simd) {
@@ -137,10 +136,10 @@ double DemSystem::finish_impl(int lo, int hi) {
     if (touched[i]) {
       // the sums of this step (range_forces, or gathered by finish_rows); zeroed for the next
       touched[i] = 0;
-      fx = sfx[i];
-      fy = sfy[i];
+      fx = sfxy[2 * i];
+      fy = sfxy[2 * i + 1];
       qs = sq[i];
-      sfx[i] = sfy[i] = sq[i] = 0;
+      sfxy[2 * i] = sfxy[2 * i + 1] = sq[i] = 0;
     }
     double tq = -r[i] * qs;
     if (fl & kCandidate) {
@@ -172,7 +171,7 @@ double DemSystem::finish_rows(int lo, int hi, Kick mode, bool team) {
     auto it = std::lower_bound(shared_rows_.begin(), shared_rows_.end(), lo);
     for (; it != shared_rows_.end() && *it < hi; ++it) {
       const auto u = static_cast<std::size_t>(*it);
-      if (touched_[u]) gather_shared_sum(*it, nl_, fx_[u], fy_[u], tq_[u]);
+      if (touched_[u]) gather_shared_sum(*it, nl_, fxy_[2 * u], fxy_[2 * u + 1], tq_[u]);
     }
   }
   if (mode == Kick::drift) return finish_impl<Kick::drift>(lo, hi);

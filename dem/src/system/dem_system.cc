@@ -49,9 +49,10 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   n_total_ = n_grains_ + static_cast<int>(frozen.size());
   const std::size_t n = static_cast<std::size_t>(n_total_);
   for (auto* v : {&p_.x, &p_.y, &p_.vx, &p_.vy, &p_.w, &p_.ax, &p_.ay, &p_.alpha, &p_.r,
-                  &p_.inv_m, &p_.inv_i, &p_.mass, &fx_, &fy_, &tq_}) {
+                  &p_.inv_m, &p_.inv_i, &p_.mass, &tq_}) {
     v->assign(n, 0.0);
   }
+  fxy_.assign(2 * n, 0.0);
   p_.x_build.assign(n, 0.0f);
   p_.y_build.assign(n, 0.0f);
   touched_.assign(static_cast<std::size_t>(n_grains_), 0);

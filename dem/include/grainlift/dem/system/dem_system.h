@@ -295,7 +295,7 @@ class DemSystem {
   /// kick, with Kick::drift also the half kick and drift of the next step. Returns the
   /// largest squared displacement since the last build (drift only).
   /// On a team (@p team), the team's shared grains (shared_rows_) first sum their stored pair
-  /// forces (range_forces) into fx_, fy_, tq_, where the kick then finds them as any grain's.
+  /// forces (range_forces) into fxy_, tq_, where the kick then finds them as any grain's.
   double finish_rows(int lo, int hi, Kick mode, bool team);
   template <Kick kMode>
   double finish_impl(int lo, int hi);
@@ -391,7 +391,9 @@ class DemSystem {
   ParticleArrays p_;
   /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
   /// (in pair order; a team's shared grains are summed at the kick instead, in the same order).
-  std::vector<double> fx_, fy_, tq_;
+  /// per grain, the pair-force sums: fx and fy side by side (one 16-byte add per grain and pair
+  /// in the pair loop, range_forces), n x F_t apart
+  std::vector<double> fxy_, tq_;
   std::vector<TouchList> touch_;  ///< per chunk: touching pairs of the step
   std::vector<TouchList> touch_prev_;  ///< per chunk: those of the step before
   /// The history (and stored force) of a listed pair is non-zero only if the pair touched at
