@@ -186,7 +186,8 @@ static void batch_matches_contact_force() {
           gd::ContactForce f;
           gd::contact_force(c, k, sx, sy, f);
           ASSERT_TRUE(same(b.fx[l], f.fx) && same(b.fy[l], f.fy) && same(b.ftx[l], f.ftx) &&
-                      same(b.fty[l], f.fty) && same(b.sx[l], sx) && same(b.sy[l], sy))
+                      same(b.fty[l], f.fty) && same(b.sx[l], sx) && same(b.sy[l], sy) &&
+                      same(b.q[l], k.nx * f.fty - k.ny * f.ftx))
               << "variant " << variant << " n " << n << " rep " << rep << " lane " << l
               << " slipping " << f.slipping;
           (f.slipping ? slipping : sticking) += 1;
@@ -329,7 +330,8 @@ static void pair_lanes_match_the_scalar_code(const gd::LawCoefficients& law) {
               ASSERT_TRUE(same(cb.nx[l], kin.nx) && same(cb.ny[l], kin.ny) &&
                           same(cb.delta[l], kin.delta) && same(cb.fx[l], f.fx) &&
                           same(cb.fy[l], f.fy) && same(cb.ftx[l], f.ftx) &&
-                          same(cb.fty[l], f.fty) && same(cb.sx[l], sx) && same(cb.sy[l], sy))
+                          same(cb.fty[l], f.fty) && same(cb.sx[l], sx) && same(cb.sy[l], sy) &&
+                          same(cb.q[l], kin.nx * f.fty - kin.ny * f.ftx))
                   << "pair " << k << " lane " << l << " of " << nb << " consts " << consts;
               const int i = bed.owner[k], j = bed.partner[k];
               ref_ov = std::max(ref_ov, kin.delta / (2.0 * std::min(bed.r[i], bed.r[j])));

@@ -213,6 +213,7 @@ std::size_t LawLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::
     store(b.fty + l, fty);
     store(b.fx + l, fn * nx + ftx);
     store(b.fy + l, fn * ny + fty);
+    store(b.q + l, nx * fty - ny * ftx);
   }
   return n;
 }
@@ -261,6 +262,7 @@ void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, s
     b.fy[l] = f.fy;
     b.ftx[l] = f.ftx;
     b.fty[l] = f.fty;
+    b.q[l] = b.nx[l] * f.fty - b.ny[l] * f.ftx;
   }
 }
 

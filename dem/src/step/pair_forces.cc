@@ -85,6 +85,7 @@ inline void fill_batch(const PairInputs& in, const LawCoefficients& law, bool no
       cb.fx[b] = fn * kin.nx;
       cb.fy[b] = fn * kin.ny;
       cb.ftx[b] = cb.fty[b] = 0.0;
+      cb.q[b] = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
     } else {
       cb.set(b, kin, sx[k], sy[k]);
     }
@@ -235,7 +236,7 @@ void DemSystem::range_forces_impl(int lo, int hi, TouchList& touch_list, TouchLi
         sy[k] = cb.sy[b];
       }
       const double fxb = cb.fx[b], fyb = cb.fy[b];
-      const double qk = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
+      const double qk = cb.q[b];
       const bool si = kTeam && shared[i] != 0;
       const bool sj = kTeam && j < ng && shared[j] != 0;
       if (store_all || si || sj || (store_frozen && j >= ng)) {

@@ -48,8 +48,8 @@ struct PairInputs {
 /// Coulomb coefficient @p mu, a vector of pairs at a time: their kinematics (PairInputs::of)
 /// from the arrays and their minimum-image separations @p dx, @p dy (the pair screen's), the
 /// springs read from @p sx, @p sy, then contact_lanes(). Fills lanes
-/// [0, nb) of @p out's nx, ny, delta, sx, sy (the advanced springs), fx, fy, ftx, fty with the
-/// bits of PairInputs::of followed by contact_force(), and raises @p max_ov to the pairs'
+/// [0, nb) of @p out's nx, ny, delta, sx, sy (the advanced springs), fx, fy, ftx, fty, q with
+/// the bits of PairInputs::of followed by contact_force(), and raises @p max_ov to the pairs'
 /// largest overlap fraction as raise_max_overlap() would. Returns nb, or 0 (nothing done) where
 /// there is no vector loop for it (the scalar target, GRAINLIFT_SIMD=scalar).
 std::size_t pair_lanes(const PairInputs& in, const LawCoefficients& law, double mu,

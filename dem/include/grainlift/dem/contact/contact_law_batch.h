@@ -22,6 +22,8 @@ struct ContactBatch {
   alignas(64) double vn[kLanes], vtx[kLanes], vty[kLanes], dsx[kLanes], dsy[kLanes];
   alignas(64) double sx[kLanes], sy[kLanes];
   alignas(64) double fx[kLanes], fy[kLanes], ftx[kLanes], fty[kLanes];
+  /// n x F_t = nx fty - ny ftx, the factor of the pair's torques (contact_force_batch)
+  alignas(64) double q[kLanes];
 
   /// @brief Lane @p l from the kinematics @p k (its mu aside) and the spring (@p s_x, @p s_y).
   void set(std::size_t l, const ContactKinematics& k, double s_x, double s_y) {
@@ -58,7 +60,7 @@ struct ContactBatch {
 };
 
 /// @brief contact_force() on lanes [0, n) of b (n <= kLanes), all with the Coulomb
-/// coefficient mu; the springs advanced in place.
+/// coefficient mu; the springs advanced in place, and q = nx fty - ny ftx of each.
 void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, std::size_t n);
 
 /// @brief Whether contact_force_batch has a vector loop for this law on this CPU (a SIMD
