@@ -191,8 +191,9 @@ HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V
   store_changed(d, ayn, hn::LoadU(d, k.ay + r), k.ay + r);
   store_changed(d, aln, hn::LoadU(d, k.al + r), k.al + r);
   const auto touched = nonzero_bytes(d, k.touched + r);
-  hn::StoreInterleaved2(hn::IfThenElse(touched, hn::Zero(d), fx),
-                        hn::IfThenElse(touched, hn::Zero(d), fy), d, k.sfxy + 2 * r);
+  // fx, fy zeroed for every lane: an untouched lane's are +0.0 already (above)
+  hn::StoreU(hn::Zero(d), d, k.sfxy + 2 * r);
+  hn::StoreU(hn::Zero(d), d, k.sfxy + 2 * r + hn::Lanes(d));
   store_where(d, touched, hn::Zero(d), qs, k.sq + r);
   kx = hn::Mul(h, axn);
   ky = hn::Mul(h, ayn);

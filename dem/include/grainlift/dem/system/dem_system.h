@@ -389,10 +389,9 @@ class DemSystem {
   double growth_since_build_ = 0;  ///< m, largest radius increase since the last build
   int n_grains_ = 0, n_total_ = 0;
   ParticleArrays p_;
-  /// Per-particle sums of the pair forces and of n x F_t, filled directly by the pair loop
-  /// (in pair order; a team's shared grains are summed at the kick instead, in the same order).
-  /// per grain, the pair-force sums: fx and fy side by side (one 16-byte add per grain and pair
-  /// in the pair loop, range_forces), n x F_t apart
+  /// Per-particle sums of the pair forces, fx and fy side by side (one 16-byte addition per
+  /// grain and pair), and of n x F_t, filled directly by the pair loop (in pair order; a team's
+  /// shared grains are summed at the kick instead, in the same order).
   std::vector<double> fxy_, tq_;
   std::vector<TouchList> touch_;  ///< per chunk: touching pairs of the step
   std::vector<TouchList> touch_prev_;  ///< per chunk: those of the step before
