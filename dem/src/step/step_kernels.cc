@@ -154,15 +154,6 @@ HWY_INLINE void store_changed(D d, V v, V old, double* p) {
 #endif
 }
 
-/// The lanes whose byte at @p p is not zero.
-HWY_INLINE hn::Mask<D> nonzero_bytes(D d, const std::uint8_t* p) {
-  const DU du;
-  const hn::Rebind<std::uint32_t, D> du32;
-  const hn::Rebind<std::uint8_t, D> du8;
-  const auto wide = hn::PromoteTo(du, hn::PromoteTo(du32, hn::LoadU(du8, p)));
-  return hn::RebindMask(d, hn::Ne(wide, hn::Zero(du)));
-}
-
 /// PeriodicBox::wrap and min_image's constants, for the periodic directions.
 struct BoxShifts {
   double lx, ly, nlx, nly, xmax, xmin, ymax, ymin, hx, hy, nhx, nhy;
@@ -173,9 +164,10 @@ struct BoxShifts {
 };
 
 /// The accelerations of the grains [r, r + lanes) from their pair-force sums (finish_impl's
-/// general branch; none of them touches the intruder), stored where a bit changes; the sums of
-/// the touched grains zeroed for the next step. Returns h a in (kx, ky, kw). An untouched lane
-/// has sums +0.0 and gets exactly a0 from the same expressions.
+/// general branch; none of them touches the intruder), stored where a bit changes; the sums
+/// zeroed for the next step by whole stores (an untouched lane's are +0.0 already). Returns
+/// h a in (kx, ky, kw). An untouched lane has sums +0.0 and gets exactly a0 from the same
+/// expressions.
 HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V h, V& kx,
                            V& ky, V& kw) {
   V fx, fy;
@@ -190,11 +182,9 @@ HWY_INLINE void accelerate(D d, const PlainKick& k, std::size_t r, V gx, V gy, V
   store_changed(d, axn, hn::LoadU(d, k.ax + r), k.ax + r);
   store_changed(d, ayn, hn::LoadU(d, k.ay + r), k.ay + r);
   store_changed(d, aln, hn::LoadU(d, k.al + r), k.al + r);
-  const auto touched = nonzero_bytes(d, k.touched + r);
-  // fx, fy zeroed for every lane: an untouched lane's are +0.0 already (above)
   hn::StoreU(hn::Zero(d), d, k.sfxy + 2 * r);
   hn::StoreU(hn::Zero(d), d, k.sfxy + 2 * r + hn::Lanes(d));
-  store_where(d, touched, hn::Zero(d), qs, k.sq + r);
+  hn::StoreU(hn::Zero(d), d, k.sq + r);
   kx = hn::Mul(h, axn);
   ky = hn::Mul(h, ayn);
   kw = hn::Mul(h, aln);
