@@ -60,10 +60,13 @@ log="$scratch/fuzz.log"
 # -timeout: one input taking seconds is a finding (a hang); -error_exitcode=1: libFuzzer's
 # default, 77, is the skip code of these tests; -rss_limit_mb also bounds any one
 # allocation (malloc_limit_mb defaults to it)
+# the seeds, then (where there is one) the corpus grown by long runs and merged to the inputs
+# that add coverage (README.md, "Grown corpus"): the bounded run starts where those ended
+corpora=("$root/tests/fuzz/corpus/$corpus")
+[ -d "$root/tests/fuzz/grown/$corpus" ] && corpora+=("$root/tests/fuzz/grown/$corpus")
 "$binary" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -error_exitcode=1 \
   -print_final_stats=1 -artifact_prefix="$scratch/artifacts/" "$@" "$scratch/new" \
-  "$root/tests/fuzz/corpus/$corpus" \
-  </dev/null >"$log" 2>&1
+  "${corpora[@]}" </dev/null >"$log" 2>&1
 status=$?
 # the result: executions, coverage, corpus
 summary_re="^#[0-9]+[[:space:]]+(INITED|DONE)"

@@ -35,7 +35,7 @@ def tracked(root):
 
 
 def is_code(path):
-    if not path.startswith(CODE_DIRS) or "/corpus/" in path:
+    if not path.startswith(CODE_DIRS) or "/corpus/" in path or "/fuzz/grown/" in path:
         return False
     return path.endswith(CODE_EXT) or path.endswith("CMakeLists.txt")
 
