@@ -213,7 +213,7 @@ std::size_t LawLanes(const LawCoefficients& c, double mu, ContactBatch& b, std::
     store(b.fty + l, fty);
     store(b.fx + l, fn * nx + ftx);
     store(b.fy + l, fn * ny + fty);
-    store(b.q + l, nx * fty - ny * ftx);
+    store(b.q + l, HWY_NAMESPACE::normal_cross_tangential(nx, ny, ftx, fty));
   }
   return n;
 }
@@ -262,7 +262,7 @@ void contact_force_batch(const LawCoefficients& c, double mu, ContactBatch& b, s
     b.fy[l] = f.fy;
     b.ftx[l] = f.ftx;
     b.fty[l] = f.fty;
-    b.q[l] = b.nx[l] * f.fty - b.ny[l] * f.ftx;
+    b.q[l] = normal_cross_tangential(b.nx[l], b.ny[l], f.ftx, f.fty);
   }
 }
 

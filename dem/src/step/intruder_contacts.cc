@@ -59,7 +59,7 @@ void DemSystem::intruder_forces(double spring_dt, double& max_ov) {
     ic_.slipping[c] = f.slipping ? 1 : 0;
     ifx_ -= f.fx;
     ify_ -= f.fy;
-    itq_ -= big_r * (kin.nx * f.fty - kin.ny * f.ftx);
+    itq_ -= big_r * normal_cross_tangential(kin.nx, kin.ny, f.ftx, f.fty);
     ++intruder_touching_;
     const double ov = kin.delta / (2.0 * p.r[g]);
     if (ov > max_ov) max_ov = ov;

@@ -85,7 +85,7 @@ inline void fill_batch(const PairInputs& in, const LawCoefficients& law, bool no
       cb.fx[b] = fn * kin.nx;
       cb.fy[b] = fn * kin.ny;
       cb.ftx[b] = cb.fty[b] = 0.0;
-      cb.q[b] = cb.nx[b] * cb.fty[b] - cb.ny[b] * cb.ftx[b];
+      cb.q[b] = normal_cross_tangential(cb.nx[b], cb.ny[b], cb.ftx[b], cb.fty[b]);
     } else {
       cb.set(b, kin, sx[k], sy[k]);
     }

@@ -113,6 +113,13 @@ inline void pair_normal(const T& dx, const T& dy, const T& rs, T& nx, T& ny, T& 
   delta = rs - dist;
 }
 
+/// n x F_t = nx fty - ny ftx of a contact with unit normal (nx, ny) and tangential force
+/// (ftx, fty), for any lane type T: the torque of F_t on a body of radius r is -r (n x F_t).
+template <class T>
+inline T normal_cross_tangential(const T& nx, const T& ny, const T& ftx, const T& fty) {
+  return nx * fty - ny * ftx;
+}
+
 /// contact_point_motion() (contact_law.h) for any lane type T: @p Body holds T members vx, vy,
 /// w; @p p* are the predicted velocities at t + dt, @p h* the half-step ones.
 template <class T, class Body>
