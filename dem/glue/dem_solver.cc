@@ -88,6 +88,7 @@ DemConfig make_dem_config(const Case& c, int threads) {
   d.steady_travel = c.dem.steady_travel;
   d.seed = c.dem.seed;
   d.sample_every = c.dem.sample_every;
+  d.sort_every = c.dem.sort_every;
   d.field_every = c.dem.field_every;
   d.frictionless_path = c.dem.frictionless_path;
   d.sleep_speed =

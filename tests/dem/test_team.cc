@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "grainlift/dem/system/dem_system.h"
@@ -21,6 +23,7 @@ constexpr double kPi = 3.14159265358979323846;
 struct Variant {
   bool store_pair_forces = false;
   bool sleep = false;
+  long long sort_every = 0;  ///< SystemOptions::sort_every
 };
 
 /// A periodic strip (x) between two rows of frozen wall disks, filled with grains on a jittered
@@ -37,6 +40,7 @@ std::unique_ptr<gd::DemSystem> ploughed_strip(int threads, bool fixed, const Var
   o.tune_exploit_seconds = exploit_seconds;
   o.tune_stale_ratio = stale_ratio;  // 0: the exploit phase ends on its steps or time only
   o.tune_trial_multiple = trial_multiple;
+  o.sort_every = v.sort_every;
   auto s = std::make_unique<gd::DemSystem>(o);
   std::mt19937_64 rng(2026);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -106,12 +110,20 @@ std::vector<double> trajectory(gd::DemSystem& s) {
 // rows each thread takes. A ploughed strip of ~2,000 grains (walls, periodic x, an intruder
 // with friction and spin, list rebuilds) runs 6,000 steps on one thread and on teams of 2 and
 // 3 threads that run every step (no tuning), with the pair forces stored or not (fields, the
-// lid) and with sleeping grains. Tolerance: exact equality of every position, velocity and
-// intruder force; the team must really run (every step on it, shared grains summed at the kick).
+// lid), with sleeping grains, and with the grains renumbered into rows every 700 steps (with
+// and without sleeping; the renumbering must change the run's bits, so it really happens).
+// Tolerance: exact equality of every position, velocity and intruder force; the team must
+// really run (every step on it, shared grains summed at the kick).
 TEST(Team, AnyTeamGivesTheBitsOfOneThread) {
-  for (const Variant v : {Variant{false, false}, Variant{true, false}, Variant{false, true}}) {
+  std::vector<double> unsorted;
+  for (const Variant v : {Variant{false, false}, Variant{true, false}, Variant{false, true},
+                          Variant{false, false, 700}, Variant{false, true, 700}}) {
     auto one = ploughed_strip(1, false, v);
     const std::vector<double> ref = trajectory(*one);
+    if (v.sort_every == 0 && !v.sleep && !v.store_pair_forces) unsorted = ref;
+    if (v.sort_every > 0 && !v.sleep) {
+      EXPECT_NE(ref, unsorted) << "the renumbering must change the order of the sums";
+    }
     EXPECT_GE(one->list_builds(), 3) << "the run must rebuild its lists";
     EXPECT_GT(std::abs(one->intruder_fx()), 0.0) << "the intruder must plough";
     if (v.sleep) {
@@ -292,4 +304,82 @@ TEST(Team, TunerTriesAgainWhenTheWorkPerStepChanges) {
 // timed steps), and the trials repeat. Tolerance: at least two pairs (off: the test above).
 TEST(Team, TunerTriesAgainAfterAMultipleOfItsTrialsTime) {
   EXPECT_GE(trials_in_segments(0, 1), 2) << "the exploit phase must end after the trials' time";
+}
+
+// Physics: none new - renumbering the grains (SystemOptions::sort_every) changes only the order
+// in which forces are added, so a run renumbered at step 5,500 is the unrenumbered run up to
+// rounding: 6,000 steps of the ploughed strip (the intruder in the grains), the intruder's
+// force and torque within 1e-9 of their size and every grain's position (the two runs' grains
+// matched by position, sorted) within 1e-12 m (rounding of ~1e-17 m per step, grown by the
+// contacts over 500 steps), while the grains' numbers have changed.
+TEST(GrainOrder, RenumberingChangesOnlyTheRounding) {
+  auto plain = ploughed_strip(1, false, Variant{});
+  auto sorted = ploughed_strip(1, false, Variant{false, false, 5500});
+  plain->advance(6000);
+  sorted->advance(6000);
+  const double f = std::hypot(plain->intruder_fx(), plain->intruder_fy());
+  ASSERT_GT(f, 0.0);
+  EXPECT_NEAR(sorted->intruder_fx(), plain->intruder_fx(), 1e-9 * f);
+  EXPECT_NEAR(sorted->intruder_fy(), plain->intruder_fy(), 1e-9 * f);
+  EXPECT_NEAR(sorted->intruder_torque(), plain->intruder_torque(),
+              1e-9 * std::abs(plain->intruder_torque()));
+  auto positions = [](const gd::DemSystem& s) {
+    std::vector<std::pair<double, double>> xy;
+    for (int i = 0; i < s.grains(); ++i) xy.emplace_back(s.particles().x[i], s.particles().y[i]);
+    std::sort(xy.begin(), xy.end());
+    return xy;
+  };
+  const auto a = positions(*plain), b = positions(*sorted);
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0;
+  bool moved = false;
+  for (int i = 0; i < plain->grains(); ++i) {
+    moved = moved || plain->particles().x[i] != sorted->particles().x[i];
+  }
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    worst = std::max(
+        {worst, std::abs(a[k].first - b[k].first), std::abs(a[k].second - b[k].second)});
+  }
+  EXPECT_TRUE(moved) << "the grains must have been renumbered";
+  EXPECT_LT(worst, 1e-12);
+}
+
+// Physics: none - NeighborList::renumber keeps every pair and its history: on a chain of five
+// grains and a frozen disk, with a distinct spring on each pair, the permutation (2 0 4 1 3)
+// gives the same pairs in the new numbering, each row sorted by partner, the springs of the
+// pairs whose owner and partner swapped negated (the other body's displacement) and the others
+// unchanged. Tolerance: exact.
+TEST(GrainOrder, RenumberedListKeepsEveryPairAndTurnsItsSpring) {
+  const gd::PeriodicBox box{-1, 1, -1, 1, false, false};
+  const std::vector<double> x{0.0, 0.1, 0.2, 0.3, 0.4, 0.5}, y(6, 0.0), r(6, 0.05);
+  gd::NeighborList nl;
+  nl.build(box, x.data(), y.data(), r.data(), 5, 6, 0.02, 1);
+  ASSERT_EQ(nl.pairs(), 5u);  // neighbours along the chain, the last grain with the disk
+  std::vector<std::array<int, 2>> old_pairs;
+  for (std::size_t k = 0; k < nl.pairs(); ++k) {
+    nl.sx[k] = 1.0 + static_cast<double>(k);
+    nl.sy[k] = -2.0 - static_cast<double>(k);
+    old_pairs.push_back({nl.owner[k], nl.partner[k]});
+  }
+  const std::vector<int> new_of_old{2, 0, 4, 1, 3};
+  nl.renumber(new_of_old);
+  ASSERT_EQ(nl.pairs(), 5u);
+  for (std::size_t k = 0; k < old_pairs.size(); ++k) {
+    const int a = new_of_old[old_pairs[k][0]];
+    const int b = old_pairs[k][1] < 5 ? new_of_old[old_pairs[k][1]] : old_pairs[k][1];
+    const int lo = std::min(a, b), hi = std::max(a, b);
+    bool found = false;
+    for (std::int64_t m = nl.first[lo]; m < nl.first[lo + 1]; ++m) {
+      EXPECT_EQ(nl.owner[m], lo);
+      if (m > nl.first[lo]) {
+        EXPECT_LT(nl.partner[m - 1], nl.partner[m]);
+      }
+      if (nl.partner[m] != hi) continue;
+      found = true;
+      const double sign = b < a ? -1.0 : 1.0;
+      EXPECT_EQ(nl.sx[m], sign * (1.0 + static_cast<double>(k))) << "pair " << k;
+      EXPECT_EQ(nl.sy[m], sign * (-2.0 - static_cast<double>(k))) << "pair " << k;
+    }
+    EXPECT_TRUE(found) << "pair " << k;
+  }
 }

@@ -42,9 +42,7 @@ PressureLid::PressureLid(const DemConfig& c, const DemSystem& s, double shear_ve
   end_ += s.grains();
   width_ = c.xmax - c.xmin;
   force_target_ = c.lid_pressure * width_;
-  double grain_mass = 0;
-  for (int i = 0; i < s.grains(); ++i) grain_mass += s.particles().mass[i];
-  mass_ = c.lid_mass > 0 ? c.lid_mass : default_mass(grain_mass);
+  mass_ = c.lid_mass > 0 ? c.lid_mass : default_mass(s.grain_mass());
   damping_ = c.lid_damping > 0 ? c.lid_damping : default_damping(c, mass_);
   state_.y = y_top;
   free_disks_ = c.lid_free_disks;

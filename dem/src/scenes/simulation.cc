@@ -226,8 +226,7 @@ struct RunLimits {
 RunLimits run_limits(const DemConfig& c, const DemSystem& s) {
   RunLimits l;
   l.speed = std::hypot(c.intruder_velocity[0], c.intruder_velocity[1]);
-  double grain_mass = 0;
-  for (int i = 0; i < s.grains(); ++i) grain_mass += s.particles().mass[i];
+  const double grain_mass = s.grain_mass();
   l.speed_scale =
       std::max(l.speed + std::abs(c.intruder_omega) * 0.5 * c.intruder_diameter,
                std::sqrt(2.0 * std::hypot(c.gravity[0], c.gravity[1]) * (c.ymax - c.ymin)));

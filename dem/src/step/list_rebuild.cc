@@ -8,7 +8,8 @@
 
 namespace grainlift::dem {
 
-void DemSystem::build_lists() {
+void DemSystem::build_lists(bool sort) {
+  if (sort) sort_grains_into_rows();
   nl_.build(opt_.box, p_.x.data(), p_.y.data(), p_.r.data(), n_grains_, n_total_, skin_,
             team_);
   update_sleep();  // sleeping grains: their pairs leave the list (sleeping.cc)

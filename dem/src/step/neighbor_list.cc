@@ -209,6 +209,53 @@ void NeighborList::build_reverse_index(int n_total) {
   }
 }
 
+void NeighborList::renumber(const std::vector<int>& new_of_old) {
+  const int n = n_mobile_;
+  if (n == 0) return;  // no list yet: no history to renumber
+  const std::size_t np = partner.size();
+  auto renamed = [&](int b) { return b < n ? new_of_old[static_cast<std::size_t>(b)] : b; };
+  std::vector<std::int64_t> nfirst(static_cast<std::size_t>(n) + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+      const int a = renamed(i), b = renamed(partner[k]);
+      ++nfirst[static_cast<std::size_t>(std::min(a, b)) + 1];
+    }
+  }
+  for (int i = 0; i < n; ++i) nfirst[i + 1] += nfirst[i];
+  std::vector<std::int64_t> at(nfirst.begin(), nfirst.end() - 1);
+  std::vector<int> npartner(np), nowner(np);
+  std::vector<double> nsx(np), nsy(np);
+  for (int i = 0; i < n; ++i) {
+    for (std::int64_t k = first[i]; k < first[i + 1]; ++k) {
+      const int a = renamed(i), b = renamed(partner[k]);
+      const bool turned = b < a;
+      const auto m = static_cast<std::size_t>(at[static_cast<std::size_t>(turned ? b : a)]++);
+      nowner[m] = turned ? b : a;
+      npartner[m] = turned ? a : b;
+      // 0.0 - s: -s for a spring, +0.0 (not -0.0) for none
+      nsx[m] = turned ? 0.0 - sx[k] : sx[k];
+      nsy[m] = turned ? 0.0 - sy[k] : sy[k];
+    }
+  }
+  // each row by partner (rows hold a few pairs: insertion sort)
+  for (int i = 0; i < n; ++i) {
+    for (std::int64_t k = nfirst[i] + 1; k < nfirst[i + 1]; ++k) {
+      for (std::int64_t m = k; m > nfirst[i] && npartner[m - 1] > npartner[m]; --m) {
+        std::swap(npartner[m - 1], npartner[m]);
+        std::swap(nsx[m - 1], nsx[m]);
+        std::swap(nsy[m - 1], nsy[m]);
+      }
+    }
+  }
+  first.swap(nfirst);
+  partner.swap(npartner);
+  owner.swap(nowner);
+  sx.swap(nsx);
+  sy.swap(nsy);
+  for (auto* v : {&fx, &fy, &q}) v->assign(np, 0.0);
+  build_reverse_index(static_cast<int>(rfirst.size()) - 1);
+}
+
 std::size_t NeighborList::drop_dormant_pairs(const std::uint8_t* dormant) {
   const std::size_t np = partner.size();
   std::size_t out = 0;

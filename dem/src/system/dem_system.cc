@@ -105,6 +105,14 @@ void DemSystem::set_bodies(const std::vector<Disk>& grains, const std::vector<Di
   primed_ = false;
 }
 
+double DemSystem::grain_mass() const {
+  std::vector<double> m(p_.mass.begin(), p_.mass.begin() + n_grains_);
+  if (opt_.sort_every > 0) std::sort(m.begin(), m.end());
+  double sum = 0;
+  for (double v : m) sum += v;
+  return sum;
+}
+
 void DemSystem::set_intruder(double x, double y, double r, double vx, double vy, double omega,
                              double spin_ramp_time) {
   opt_.box.wrap(x, y);
@@ -387,15 +395,23 @@ bool DemSystem::exploit_is_over() const {
 void DemSystem::advance(long long n) {
   prepare();
   long long done = 0;
+  const long long every = opt_.sort_every;
   while (done < n) {
     choose_team();
+    // a segment ends at the next renumbering (at steps that are multiples of sort_every, so
+    // that any run of the same steps renumbers at the same ones)
+    const long long m = every > 0 ? std::min(n - done, every - steps_ % every) : n - done;
     const auto t0 = std::chrono::steady_clock::now();
-    const long long k = team_ > 1 ? run_segment_team(n - done) : run_segment(n - done);
+    const long long k = team_ > 1 ? run_segment_team(m) : run_segment(m);
     account_segment(k,
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     done += k;
     sleep_grain_steps_ += static_cast<double>(sleeping_now_) * static_cast<double>(k);
-    if (drifted_) build_lists();
+    if (every > 0 && k > 0 && steps_ % every == 0) {
+      build_lists(true);
+    } else if (drifted_) {
+      build_lists();
+    }
   }
 }
 

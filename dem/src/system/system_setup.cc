@@ -25,6 +25,7 @@ SystemOptions system_options(const DemConfig& c) {
   o.dt = c.dt;
   o.threads = c.threads;
   o.gravity = c.gravity;
+  o.sort_every = c.sort_every;
   return o;
 }
 

@@ -389,6 +389,7 @@ Case build_case(const toml::table& root) {
   dm.sleep_speed = get_real(r, "dem.sleep_speed");
   dm.seed = std::uint64_t(get_int(r, "dem.seed"));
   dm.sample_every = int(get_int(r, "dem.sample_every"));
+  dm.sort_every = get_int(r, "dem.sort_every");
   dm.field_every = int(get_int(r, "dem.field_every"));
   dm.relax_ke = get_real(r, "dem.relax_ke");
   dm.preparation = get_text(r, "dem.preparation");

@@ -153,6 +153,11 @@ void add_dem_keys(std::vector<KeySpec>& k) {
                       "also a checkpoint every this many steps (0: by time only)"));
   k.push_back(integer("dem.seed", "1", 0, 9.2e18, "random seed: packing and size distribution"));
   k.push_back(integer("dem.sample_every", "50", 1, 1e7, "steps between force samples"));
+  k.push_back(integer("dem.sort_every", "0", 0, 1e9,
+                      "steps between renumberings of the grains into rows of cells, which "
+                      "keep the threads' slabs of rows compact as the flow mixes the bed "
+                      "(docs/performance.md, \"Threads\"); new bits, the same for any thread "
+                      "count; 0: never (the bed's order from its packing)"));
   k.push_back(integer("dem.field_every", "500", 1, 1e9,
                       "steps between field snapshots (after the steady state)"));
   k.push_back(choice("dem.preparation", "\"radius_growth\"", {"radius_growth", "wall_compression"},

@@ -102,6 +102,9 @@ struct DemConfig {
   /// m/s: grains at most this fast, at rest and far from the intruder, sleep
   /// (DemSystem::set_sleep); 0: only grains exactly at rest; < 0: no sleeping
   double sleep_speed = 0;
+  /// steps between renumberings of the grains into rows of cells (DemSystem's sort_every;
+  /// 0: never)
+  long long sort_every = 0;
 
   // ---- added by the DEM engine (defaults keep the meaning of the fields above)
   /// m/s, impact speed of the binary collision time used for the dt check;

@@ -31,6 +31,12 @@ class NeighborList {
   /// guarantees such pairs are apart and stay apart while both stay marked.
   std::size_t drop_dormant_pairs(const std::uint8_t* dormant);
 
+  /// @brief Renumber the grains of the list: grain i becomes @p new_of_old[i] (frozen disks
+  /// keep theirs). A pair whose new owner would be above its partner turns round, its spring
+  /// negated (the displacement of the other body's contact point); rows sorted again by j.
+  /// The stored pair forces are dropped (the next force pass writes them).
+  void renumber(const std::vector<int>& new_of_old);
+
   int rows() const { return n_mobile_; }
   std::size_t pairs() const { return partner.size(); }
 

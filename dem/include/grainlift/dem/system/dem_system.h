@@ -49,6 +49,9 @@ struct SystemOptions {
   /// at most about 1/multiple of the run (the demo: trials of ~0.1 s, a verdict kept ~4 s)
   double tune_trial_multiple = 40;
   std::array<double, 2> gravity{0, 0};  ///< m/s^2, on grains only
+  /// Every this many steps (at multiples of it) the grains are renumbered into rows of cells
+  /// (DemSystem::sort_grains_into_rows): new bits, the same for any team or resume; 0: never.
+  long long sort_every = 0;
 };
 
 /// Structure of arrays of all disks: grains [0, n_grains), frozen disks after them.
@@ -202,6 +205,9 @@ class DemSystem {
   // ---- measurements
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
+  /// kg (per unit length), the grains' total mass: in the grains' order, or with sort_every in
+  /// increasing order of mass (the same bits whatever the numbering: a resumed run's lid).
+  double grain_mass() const;
   int grains() const { return n_grains_; }
   int frozen() const { return n_total_ - n_grains_; }
   const ParticleArrays& particles() const { return p_; }
@@ -253,7 +259,12 @@ class DemSystem {
   std::int64_t tuner_trials() const { return tune_trials_; }
 
  private:
-  void build_lists();
+  /// The lists built again; with @p sort, the grains renumbered into rows of cells first.
+  void build_lists(bool sort = false);
+  /// The grains renumbered into rows of cells (bottom row first, x order within a row), every
+  /// per-grain array, the list's histories and the intruder candidates with them: the order
+  /// the threads' slabs of rows want, which the flow's mixing decays (grain_order.cc).
+  void sort_grains_into_rows();
   /// Calls f(delta, r_i, r_j, i, j) for every listed pair (grain i, body j: a grain or a
   /// frozen disk >= grains()) and every intruder candidate (grain i, r_j = R, j = -1),
   /// delta = r_i + r_j - |x_i - x_j| of the current positions (any sign).

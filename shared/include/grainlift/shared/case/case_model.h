@@ -66,6 +66,7 @@ struct DemSection {
   double target_error{};     ///< relative standard error of drag and lift that ends a run (0: off)
   std::uint64_t seed{};
   int sample_every{};
+  long long sort_every{};    ///< steps between renumberings into rows of cells (0: never)
   int field_every{};
   bool frictionless_path{};  ///< grains.friction = 0: normal forces only
   bool sleep{};              ///< sleeping grains
