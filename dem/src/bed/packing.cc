@@ -24,6 +24,7 @@
 #include "grainlift/shared/machine/memory.h"
 #include "grainlift/dem/system/system_setup.h"
 #include "bed/packing_cache.h"
+#include "step/row_order.h"
 #include "system/fnv1a.h"
 
 namespace grainlift::dem {
@@ -147,22 +148,13 @@ void read_back(const DemSystem& s, std::vector<double>& x, std::vector<double>& 
 /// of rows want (docs/dem-model.md).
 void sort_into_rows(const DemConfig& c, std::vector<double>& x, std::vector<double>& y,
                     std::vector<double>& r) {
-  const double d = c.grain_diameter;
-  const int ncx = std::max(1, static_cast<int>((c.xmax - c.xmin) / d));
-  std::vector<std::size_t> order(r.size());
-  std::vector<long> key(r.size());
-  for (std::size_t n = 0; n < r.size(); ++n) {
-    const long cx =
-        std::min<long>(ncx - 1, std::max<long>(0, static_cast<long>((x[n] - c.xmin) / d)));
-    const long cy = static_cast<long>(std::floor((y[n] - c.ymin) / d));
-    key[n] = cy * ncx + cx;
-  }
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  const std::vector<int> order = detail::rows_of_cells_order(
+      x.data(), y.data(), static_cast<int>(r.size()), c.xmin, c.xmax - c.xmin, c.ymin,
+      c.grain_diameter);
   for (std::vector<double>* v : {&x, &y, &r}) {
     std::vector<double> sorted(v->size());
-    for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = (*v)[order[k]];
+    for (std::size_t k = 0; k < order.size(); ++k)
+      sorted[k] = (*v)[static_cast<std::size_t>(order[k])];
     v->swap(sorted);
   }
 }

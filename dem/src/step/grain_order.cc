@@ -3,12 +3,12 @@
 // slabs of rows stay compact as the flow mixes the bed (the order the bed was packed in
 // decays as the intruder stirs it; docs/performance.md, "Threads").
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <vector>
 
 #include "grainlift/dem/system/dem_system.h"
+#include "step/row_order.h"
 
 namespace grainlift::dem {
 
@@ -31,21 +31,9 @@ void DemSystem::sort_grains_into_rows() {
   if (n < 2) return;
   double rmax = 0;
   for (int i = 0; i < n; ++i) rmax = std::max(rmax, p_.r[i]);
-  const double d = 2.0 * rmax;
   const PeriodicBox& box = opt_.box;
-  const long ncx = std::max(1L, static_cast<long>((box.xmax - box.xmin) / d));
-  std::vector<long> key(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const long cx =
-        std::min(ncx - 1, std::max(0L, static_cast<long>((p_.x[i] - box.xmin) / d)));
-    const long cy = std::max(0L, static_cast<long>(std::floor((p_.y[i] - box.ymin) / d)));
-    key[static_cast<std::size_t>(i)] = cy * ncx + cx;
-  }
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return key[static_cast<std::size_t>(a)] < key[static_cast<std::size_t>(b)];
-  });
+  const std::vector<int> order = detail::rows_of_cells_order(
+      p_.x.data(), p_.y.data(), n, box.xmin, box.xmax - box.xmin, box.ymin, 2.0 * rmax);
   bool same = true;
   for (int k = 0; k < n && same; ++k) same = order[static_cast<std::size_t>(k)] == k;
   if (same) return;
