@@ -25,9 +25,13 @@ double mean_after(const std::vector<gd::FarFieldSample>& v, std::size_t start,
 // Physics: a bed confined by a lid at P (no gravity) carries P across every horizontal line
 // (vertical force balance of the grains between the line and the lid, time averaged in steady
 // state). The far field's sigma_yy, measured on a strip at the intruder's height away from
-// the intruder, therefore equals the lid's measured pressure within 5% (the strip is a few
-// diameters tall: fluctuations, the intruder's own vertical force on the layer, ~2% kinetic
-// part). The pressure -(sxx + syy)/2 is positive and of the same order (sxx/syy is the bed's
+// the intruder, therefore equals the lid's measured pressure, within 15%: the line's load is
+// shared with the disk of 3 D left out around the intruder (its jammed front, its wake), and
+// away from the intruder the jammed bed barely rearranges, so its force network is frozen and
+// a strip 9 d tall over 42 d of the 60 d averages one realisation's share, which a longer run
+// does not average out. Measured over 23 beds (seeds 1-6 at 8, 16 and 24 d of travel, and
+// seeds 1-5 with the grains renumbered every 20,000 steps): sigma_yy / lid 0.88-1.00, mean
+// 0.95. The pressure -(sxx + syy)/2 is positive and of the same order (sxx/syy is the bed's
 // lateral stress ratio, between 0.3 and 2 for a granular packing).
 TEST(FarField, LidPressureIsCarriedToTheIntrudersHeight) {
   gd::DemConfig c = grainlift::test_support::walled_bed(60, 30, 0.82);
@@ -54,7 +58,7 @@ TEST(FarField, LidPressureIsCarriedToTheIntrudersHeight) {
   lid /= static_cast<double>(out.lid.size() - s0);
   std::printf("far field: sigma_yy %.4g, sigma_xx %.4g, p %.4g N/m; lid %.4g N/m (target %g)\n",
               syy, sxx, p, lid, c.lid_pressure);
-  EXPECT_NEAR(syy, lid, 0.05 * lid);
+  EXPECT_NEAR(syy, lid, 0.15 * lid);
   EXPECT_GT(sxx / syy, 0.3);
   EXPECT_LT(sxx / syy, 2.0);
   EXPECT_NEAR(p, 0.5 * (sxx + syy), 1e-9 * p);
