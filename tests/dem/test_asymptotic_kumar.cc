@@ -80,7 +80,8 @@ Forces dense_bed() {
   f.lift = pool(a.lift, b.lift);
   f.ld = grainlift::test_support::ratio(f.lift, f.drag);
   f.contacts = a.contacts + b.contacts;
-  std::printf("dense bed, two beds: drag %.4g +- %.2g N/m, lift %.4g +- %.2g N/m, L/D %.3f +- %.3f\n",
+  std::printf("dense bed, two beds: drag %.4g +- %.2g N/m, lift %.4g +- %.2g N/m, "
+              "L/D %.3f +- %.3f\n",
               f.drag.mean, f.drag.stderr_, f.lift.mean, f.lift.stderr_, f.ld.mean, f.ld.stderr_);
   return f;
 }
