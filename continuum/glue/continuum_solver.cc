@@ -266,6 +266,7 @@ Diagnostics result_diagnostics(const Case& c, const ContinuumConfig& cfg,
               {"worst_direct_residual", out.worst_direct_residual},
               {"sheared_share", out.sheared_share},
               {"ill_posed_share", out.ill_posed_share},
+              {"ill_posed_wall_share", out.ill_posed_wall_share},
               {"surface_integral_fx", out.force_fx_surface},
               {"surface_integral_fy", out.force_fy_surface},
               {"surface_integral_torque", out.torque_surface}};

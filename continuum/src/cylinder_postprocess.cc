@@ -60,11 +60,13 @@ void CylinderProblem::report_convergence() {
 
 void CylinderProblem::check_well_posedness() {
   // where the law is ill posed the solution depends on the mesh: say so
-  const auto share = problem_->ill_posed_share();
+  const InertialRange w = well_posed_range(config_.rheology);
+  const double radius = 0.5 * config_.intruder_diameter;
+  const auto share = problem_->ill_posed_share(Point2(), radius, 1.25 * radius, w.high);
   out_.sheared_share = share[0];
   out_.ill_posed_share = share[1];
+  out_.ill_posed_wall_share = share[2];
   if (out_.ill_posed_share > 0.05) {
-    const InertialRange w = well_posed_range(config_.rheology);
     std::ostringstream os;
     os << "continuum: warning: in " << std::lround(100 * out_.ill_posed_share)
        << "% of the sheared medium (" << std::lround(100 * out_.sheared_share)

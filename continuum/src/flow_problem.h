@@ -207,8 +207,11 @@ class FlowProblem {
   Vec2 consistent_traction(dealii::types::boundary_id id, const Point2& centre, double angle) const;
   /// Area fractions of the medium: [0] where it is sheared beyond the viscosity model's
   /// regularisation (|D| > regularised_strain_rate()), [1] the part of that where the model is
-  /// ill posed at the local I (ViscosityModel::well_posedness() > 0). Collective.
-  std::array<double, 2> ill_posed_share() const;
+  /// ill posed at the local I (ViscosityModel::well_posedness() > 0), [2] the part of the
+  /// layer @p r0 <= |x - @p centre| < @p r1 (the medium next to an intruder of radius r0) that
+  /// is sheared with I above @p high_i (where mu(I) is ill posed at high I). Collective.
+  std::array<double, 3> ill_posed_share(const Point2& centre, double r0, double r1,
+                                        double high_i) const;
   /// State at an arbitrary point; false when the point is not in the mesh.
   bool point_state(const Point2& x, PointState& out) const;
   /// States at many points with one reduction: each point is evaluated by the lowest rank that

@@ -228,6 +228,11 @@ struct ContinuumOutput {
   /// of it where mu(I) is ill posed at the local I (Barker et al. 2015): there the solution
   /// depends on the mesh (docs/continuum-model.md)
   double sheared_share = 0, ill_posed_share = 0;
+  /// share of the layer a quarter of the intruder's radius deep around it that is sheared at
+  /// an I above the high end of mu(I)'s well-posed range: where a slip line forms at the wall
+  /// and the forces may have no mesh limit (docs/continuum-model.md); a run that misses its
+  /// target_error names it
+  double ill_posed_wall_share = 0;
   double force_fx_surface = 0, force_fy_surface = 0,
          torque_surface = 0;  ///< same by integrating sigma.n (diagnostic)
   /// |R_k| / |R_0| after each nonlinear step, all continuation stages and adaptive cycles
