@@ -116,6 +116,20 @@ TEST(RheologyCache, RunsWithoutALawOfTheirOwnTakeTheCachedCalibration) {
   EXPECT_EQ(c.continuum.mu_2, law.mu_i.mu_2);
   EXPECT_EQ(c.continuum.I0, law.mu_i.I0);
   EXPECT_NEAR(c.continuum.mu_s, 0.24, 1e-6);
+  // its points (to I = 0.46, on both sides of I0 = 0.7 within their errors) determine the law
+  EXPECT_EQ(note.find("extrapolation"), std::string::npos) << note;
+  // a law whose points leave mu_2 undetermined (the demo's grains cached by 82e36ce: mu_2
+  // 2.32 +- 31 from points up to I = 0.23) is taken the same, and the note says that above
+  // its points the law is an extrapolation
+  RheologyFile loose = law;
+  loose.mu_i.mu_2_err = 31;
+  write_rheology_file(cached, loose);
+  Case again = with_cache(dir);
+  note = use_cached_rheology(again);
+  EXPECT_EQ(again.continuum.mu_2, law.mu_i.mu_2);
+  EXPECT_NE(note.find("is an extrapolation"), std::string::npos) << note;
+  EXPECT_NE(note.find("+- 31"), std::string::npos) << note;
+  write_rheology_file(cached, law);
 
   Case stated = with_cache(dir, "\n[continuum]\nmu_s = 0.3\n");
   EXPECT_EQ(stated.continuum.law_source, "case");

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -77,6 +78,22 @@ std::string rheology_cache_path(const Case& c, double pressure) {
   return dir + "/rheology-" + grain_material_key(c, pressure) + ".toml";
 }
 
+namespace {
+/// A clause when the law's points leave the rise of mu(I) undetermined (one-sigma error of
+/// mu_2 above mu_2 - mu_s, or of I0 above I0): above the points' largest I the law is then an
+/// extrapolation, on which a flow sheared faster (a spinning intruder's wall) depends.
+std::string extrapolation_clause(const RheologyFile& law) {
+  const MuIFit& m = law.mu_i;
+  if (!(m.mu_2_err > std::abs(m.mu_2 - m.mu_s)) && !(m.I0_err > m.I0)) return {};
+  return fmt::format(
+      "; its points (I up to {:.3g}) leave mu_2 and I0 undetermined (+- {:.2g}, +- {:.2g}): "
+      "above that I the law is an extrapolation, which a faster flow (a spinning intruder's "
+      "wall) depends on; calibrate up to the flow's I (--inertial-numbers, --strain-scale; "
+      "docs/crosscheck.md)",
+      law.I_max, m.mu_2_err, m.I0_err);
+}
+}  // namespace
+
 std::string use_cached_rheology(Case& c) {
   auto& cn = c.continuum;
   if (cn.law_source != "default") return {};
@@ -108,8 +125,8 @@ std::string use_cached_rheology(Case& c) {
   cn.law_source = "calibration cache";
   return fmt::format("continuum: mu(I) calibrated for these grains at {:g} Pa (mu_s {:.4g}, "
                      "mu_2 {:.4g}, I0 {:.4g}; cached {}); name continuum.mu_s, mu_2, I0 in the "
-                     "case to use another law",
-                     p, cn.mu_s, cn.mu_2, cn.I0, path);
+                     "case to use another law{}",
+                     p, cn.mu_s, cn.mu_2, cn.I0, path, extrapolation_clause(law));
 }
 
 void cache_rheology(const std::string& path, const RheologyFile& law) {
