@@ -110,7 +110,8 @@ ContinuumOutput CylinderProblem::run() {
     os << " (continuum.refinement = " << config_.refinement
        << " caps the levels; /diagnostics level_drag, level_lift)";
     if (out_.ill_posed_wall_share > 0 && config_.model == ContinuumModel::local) {
-      // the slip line of docs/continuum-model.md, "What sits at the wall below the change":
+      // the slip line of docs/continuum-model.md, "What sits at the wall with the glass-bead
+      // law":
       // one cell thick, its I growing with each level, the lift with no mesh limit in sight
       os.precision(3);
       os << ". Next to the intruder " << 100 * out_.ill_posed_wall_share
