@@ -111,8 +111,8 @@ ContinuumOutput CylinderProblem::run() {
        << " caps the levels; /diagnostics level_drag, level_lift)";
     if (out_.ill_posed_wall_share > 0 && config_.model == ContinuumModel::local) {
       // the slip line of docs/continuum-model.md, "What sits at the wall with the glass-bead
-      // law":
-      // one cell thick, its I growing with each level, the lift with no mesh limit in sight
+      // law": one cell thick, its I growing with each level, the lift with no mesh limit in
+      // sight
       os.precision(3);
       os << ". Next to the intruder " << 100 * out_.ill_posed_wall_share
          << "% of a layer R/4 deep is sheared where mu(I) is ill posed (I above "
