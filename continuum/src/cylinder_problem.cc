@@ -97,32 +97,7 @@ ContinuumOutput CylinderProblem::run() {
     out_.message = os.str();
   }
   check_well_posedness();
-  if (config_.target_error > 0 && !out_.target_met && out_.converged && !out_.interrupted &&
-      !out_.levels.empty()) {
-    // the levels ran out before the estimate reached the target: the forces are the finest
-    // level's, their error larger than asked
-    std::ostringstream os;
-    os << "continuum: warning: the target error " << config_.target_error << " was not met: ";
-    if (out_.estimated_error >= 0)
-      os << "the estimate at the finest level is " << out_.estimated_error;
-    else
-      os << "fewer than three levels give no estimate";
-    os << " (continuum.refinement = " << config_.refinement
-       << " caps the levels; /diagnostics level_drag, level_lift)";
-    if (out_.ill_posed_wall_share > 0 && config_.model == ContinuumModel::local) {
-      // the slip line of docs/continuum-model.md, "What sits at the wall with the glass-bead
-      // law": one cell thick, its I growing with each level, the lift with no mesh limit in
-      // sight
-      os.precision(3);
-      os << ". Next to the intruder " << 100 * out_.ill_posed_wall_share
-         << "% of a layer R/4 deep is sheared where mu(I) is ill posed (I above "
-         << well_posed_range(config_.rheology).high
-         << "): a slip line at the wall, whose forces may have no mesh limit. A higher "
-            "confining pressure or lower speeds leave that range; continuum.model = "
-            "\"nonlocal_fluidity\" gives the layer a thickness (docs/continuum-model.md)";
-    }
-    say(os.str());
-  }
+  report_missed_target();
   compute_boundary_outputs();
   if (nested && config_.adaptive_cycles == 0 && !out_.levels.empty() &&
       out_.levels.back().refinement == config_.refinement) {

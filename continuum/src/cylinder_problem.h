@@ -67,6 +67,9 @@ class CylinderProblem {
   void correct_for_gravity();
   void report_convergence();
   void check_well_posedness();
+  /// With continuum.target_error: when the levels ran out before the estimate met it, says so
+  /// (and names a slip line at the wall, ContinuumOutput::ill_posed_wall_share).
+  void report_missed_target() const;
   void compute_boundary_outputs();
   /// The reaction (fx, fy, torque), the surface integral (fx, fy, torque), then sigma_n and
   /// sigma_t at the surface angles, of the state of @p fp.

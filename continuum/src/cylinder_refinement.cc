@@ -232,6 +232,35 @@ bool CylinderProblem::target_met() {
   return out_.target_met;
 }
 
+void CylinderProblem::report_missed_target() const {
+  if (!(config_.target_error > 0) || out_.target_met || !out_.converged || out_.interrupted ||
+      out_.levels.empty())
+    return;
+  // the levels ran out before the estimate reached the target: the forces are the finest
+  // level's, their error larger than asked
+  std::ostringstream os;
+  os << "continuum: warning: the target error " << config_.target_error << " was not met: ";
+  if (out_.estimated_error >= 0)
+    os << "the estimate at the finest level is " << out_.estimated_error;
+  else
+    os << "fewer than three levels give no estimate";
+  os << " (continuum.refinement = " << config_.refinement
+     << " caps the levels; /diagnostics level_drag, level_lift)";
+  if (out_.ill_posed_wall_share > 0 && config_.model == ContinuumModel::local) {
+    // the slip line of docs/continuum-model.md, "What sits at the wall with the glass-bead
+    // law": one cell thick, its I growing with each level, the lift with no mesh limit in
+    // sight
+    os.precision(3);
+    os << ". Next to the intruder " << 100 * out_.ill_posed_wall_share
+       << "% of a layer R/4 deep is sheared where mu(I) is ill posed (I above "
+       << well_posed_range(config_.rheology).high
+       << "): a slip line at the wall, whose forces may have no mesh limit. A higher "
+          "confining pressure or lower speeds leave that range; continuum.model = "
+          "\"nonlocal_fluidity\" gives the layer a thickness (docs/continuum-model.md)";
+  }
+  say(os.str());
+}
+
 void CylinderProblem::schedule_after_refinement() {
   // the last two intermediate stages, then the final one (solve_from_carried()'s approach 1;
   // the last stage alone: its 20 steps did not converge from the transferred state after
