@@ -8,7 +8,7 @@
 #   - the reference: this machine's scalar code (GRAINLIFT_SIMD=scalar);
 #   - emulated x86-64 CPUs (qemu-x86_64 -cpu): Haswell (AVX2 and FMA, no AVX-512) dispatches to
 #     "avx2", Nehalem (SSE4.2, no AVX) to "scalar"; each on one and two threads gives the
-#     reference's bits;
+#     reference's bits, and `grainlift --version` names that target;
 #   - 64-bit Arm (Debian's cross compiler): the engine compiles for every Arm target Highway has
 #     (NEON, SVE, SVE2, SVE_256, SVE2_128); with the arm64 libhwy installed it is also linked
 #     and run under qemu-aarch64, each target forced at a vector length it runs (SVE at 128 to
@@ -77,6 +77,20 @@ sed 's/^/    /' "$work/reference.txt"
 # emulator leaves out go to stderr and are dropped)
 run "x86-64 Haswell (AVX2, no AVX-512), auto" avx2 1,2 qemu-x86_64 -cpu Haswell "$hash_bin"
 run "x86-64 Nehalem (no AVX), auto" scalar 1,2 qemu-x86_64 -cpu Nehalem "$hash_bin"
+# ... and the name the user is shown there
+if [ -x "$build/bin/grainlift" ]; then
+  for cpu_target in Haswell:avx2 Nehalem:scalar; do
+    cpu=${cpu_target%:*} want=${cpu_target#*:}
+    line=$(qemu-x86_64 -cpu "$cpu" "$build/bin/grainlift" --version 2> /dev/null |
+             grep "^DEM SIMD:" || true)
+    if [[ "$line" == "DEM SIMD: $want "* ]]; then
+      echo "ok      grainlift --version on $cpu: $line"
+    else
+      echo "FAILED  grainlift --version on $cpu: '$line', expected 'DEM SIMD: $want ...'"
+      failed=1
+    fi
+  done
+fi
 
 # 64-bit Arm: cross-compiled (ccache makes the rebuild cheap), linked when the arm64 libhwy is
 # there
