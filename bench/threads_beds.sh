@@ -6,6 +6,10 @@
 # before the timed runs. Then the demo's whole command as `make demo` runs it (demo_both: both
 # solvers, fields on; with two threads the solvers run at once, docs/architecture.md). Prints
 # each run's wall time, the DEM team's share of the steps, and per bed the ratio of the medians.
+# After each round, the ceiling this machine puts on any team at that moment: the lockstep rows
+# of dem_core_contention (two pinned threads stepping with the team's barrier against one doing
+# both halves, at about 3, 12, 50 and 200 us of work per thread per step; the demo's step is
+# about 12 us per thread), printed beside the beds' ratios as the median over the rounds.
 #
 #   bench/threads_beds.sh [build dir (build)] [rounds (3)]
 #
@@ -14,6 +18,7 @@ set -euo pipefail
 . "$(dirname "$0")/lib.sh"  # median, scratch_folder
 cd "$(dirname "$0")/.."
 G=$(realpath "${1:-build}/bin/grainlift")
+CONTENTION=$(realpath "${1:-build}/bin/dem_core_contention")
 ROUNDS=${2:-3}
 scratch_folder
 WIDE=(--set 'domain.x_range=[-1.0,1.0]' --set 'domain.y_range=[-0.7,0.7]')
@@ -52,11 +57,21 @@ for bed in $BEDS; do  # pack (and cache) each bed first
   run "$bed" 1 >/dev/null
   rm -f "$OUT/${bed}1.times"
 done
+ceiling() {  # the lockstep rows' ratios, one file per step length
+  "$CONTENTION" 1 | awk -v out="$OUT" '
+    BEGIN { split("3 12 50 200", us) }
+    /^lockstep/ { on = 1; next }
+    on && NF >= 5 { sub(/x$/, "", $4); print $4 >> (out "/ceiling_" us[++i]) }'
+}
 for ((k = 1; k <= ROUNDS; ++k)); do
   for bed in $BEDS; do
     run "$bed" 1
     run "$bed" 2
   done
+  ceiling
+  echo -n "lockstep ceiling, round $k:"
+  for us in 3 12 50 200; do echo -n " ~$us us $(tail -1 "$OUT/ceiling_$us")x;"; done
+  echo
 done
 echo
 echo "| bed | one thread (s) | two threads (s) | ratio |"
@@ -65,4 +80,10 @@ for bed in $BEDS; do
   a=$(median <"$OUT/${bed}1.times")
   b=$(median <"$OUT/${bed}2.times")
   echo "| $bed | $a | $b | $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.2f", a / b }') |"
+done
+echo
+echo "The machine's ceiling for two threads in lockstep" \
+  "(dem_core_contention, medians of the rounds):"
+for us in 3 12 50 200; do
+  echo "  about $us us per thread per step: $(median <"$OUT/ceiling_$us")x"
 done
