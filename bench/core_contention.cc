@@ -2,7 +2,7 @@
 // one core alone and then as two copies side by side (one per core, pinned), and the ratio of
 // the work done per second by the two copies together to the work done by one alone.
 //
-//   dem_core_contention [seconds per measurement (2)]
+//   dem_core_contention [seconds per measurement (2)] [lockstep (only the lockstep rows)]
 //
 // A machine with two independent cores gives 2.00x on the compute kernel; two hyperthreads of
 // one physical core, or a host that shares the core's time, give less. The DEM's thread and
@@ -34,6 +34,7 @@
 #include <functional>
 #include <numeric>
 #include <random>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -155,15 +156,8 @@ double lockstep_seconds(int threads, int reps, long steps, int every = 1) {
   return wall / static_cast<double>(steps);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const double seconds = argc > 1 ? std::atof(argv[1]) : 2.0;
-  const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  if (cores < 2) {
-    std::printf("one core: nothing to compare\n");
-    return 0;
-  }
+/// The compute, cache and memory kernels: one core alone, then two copies side by side.
+void core_kernels(double seconds) {
   const CacheRing ring0(512 << 10), ring1(512 << 10);
   const Stream stream(std::size_t{512} << 20);
   std::uint32_t ring_at[2] = {0, 0};
@@ -184,6 +178,18 @@ int main(int argc, char** argv) {
     const double two = units_per_second(2, seconds, k.work);
     std::printf("%-8s %16.1f %16.1f %7.2fx\n", k.name, one, two, two / one);
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double seconds = argc > 1 ? std::atof(argv[1]) : 2.0;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  if (cores < 2) {
+    std::printf("one core: nothing to compare\n");
+    return 0;
+  }
+  if (!(argc > 2 && std::string(argv[2]) == "lockstep")) core_kernels(seconds);
   // lockstep: passes per step for about 3, 12, 50 and 200 us per thread; one thread and two
   // alternately, kRounds pairs (the median of the paired ratios: a VM's slow spells last
   // seconds and change either side by tens of percent)

@@ -58,7 +58,7 @@ for bed in $BEDS; do  # pack (and cache) each bed first
   rm -f "$OUT/${bed}1.times"
 done
 ceiling() {  # the lockstep rows' ratios, one file per step length
-  "$CONTENTION" 1 | awk -v out="$OUT" '
+  "$CONTENTION" 1 lockstep | awk -v out="$OUT" '
     BEGIN { split("3 12 50 200", us) }
     /^lockstep/ { on = 1; next }
     on && NF >= 5 { sub(/x$/, "", $4); print $4 >> (out "/ceiling_" us[++i]) }'
