@@ -19,6 +19,8 @@
 //   compute  eight independent multiply-add chains in registers (the FP units only)
 //   cache    dependent random loads within 512 KiB (the core's L2)
 //   memory   a sum over 512 MiB (the memory bandwidth the cores share)
+//   store    the lockstep rows' kick-like update of each copy's own 48 kB, free-running (no
+//            barrier): what the lockstep rows would give if the threads never waited
 //   lockstep a kick-like update of each thread's own 48 kB of doubles per step, one barrier
 //            (column "every 8": one barrier every eight steps, what a halo of eight steps
 //            would allow; its ratio against the same one thread)
@@ -118,6 +120,9 @@ double units_per_second(int copies, double seconds, const std::function<double(i
   return std::accumulate(rate.begin(), rate.end(), 0.0);
 }
 
+/// The doubles of each of a lockstep thread's two arrays (24 kB each).
+constexpr std::size_t kKickDoubles = 3 << 10;
+
 /// One step's work of a lockstep thread: @p reps passes of a kick-like update over its arrays.
 void lockstep_unit(std::vector<double>& v, const std::vector<double>& a, int reps) {
   const std::size_t n = v.size();
@@ -129,9 +134,8 @@ void lockstep_unit(std::vector<double>& v, const std::vector<double>& a, int rep
 /// every @p every steps (threads == 1: one thread, 2 * reps passes, no barrier), for @p steps
 /// steps.
 double lockstep_seconds(int threads, int reps, long steps, int every = 1) {
-  constexpr std::size_t kDoubles = 3 << 10;  // 24 kB per array, two arrays per thread
-  std::vector<std::vector<double>> v(2, std::vector<double>(kDoubles, 1.0));
-  std::vector<std::vector<double>> a(2, std::vector<double>(kDoubles, 0.5));
+  std::vector<std::vector<double>> v(2, std::vector<double>(kKickDoubles, 1.0));
+  std::vector<std::vector<double>> a(2, std::vector<double>(kKickDoubles, 0.5));
   grainlift::dem::detail::TeamBarrier barrier(threads);
   std::atomic<int> ready{0};
   double wall = 0;
@@ -166,10 +170,17 @@ void core_kernels(double seconds) {
     const char* name;
     std::function<double(int)> work;
   };
+  std::vector<std::vector<double>> kick_v(2, std::vector<double>(kKickDoubles, 1.0));
+  const std::vector<std::vector<double>> kick_a(2, std::vector<double>(kKickDoubles, 0.5));
   const Kernel kernels[] = {
       {"compute", [](int) { return compute_unit(); }},
       {"cache", [&](int c) { return (c ? ring1 : ring0).unit(ring_at[c]); }},
       {"memory", [&](int c) { return stream.unit(stream_at[c]); }},
+      {"store",
+       [&](int c) {
+         lockstep_unit(kick_v[c], kick_a[c], 8);
+         return kick_v[c][0];
+       }},
   };
   std::printf("%-8s %16s %16s %8s\n", "kernel", "1 core (units/s)", "2 cores (units/s)", "ratio");
   for (const auto& k : kernels) {
