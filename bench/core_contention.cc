@@ -1,4 +1,4 @@
-// How much a second core adds on this machine, whatever the code: three kernels, each run on
+// How much a second core adds on this machine, whatever the code: four kernels, each run on
 // one core alone and then as two copies side by side (one per core, pinned), and the ratio of
 // the work done per second by the two copies together to the work done by one alone.
 //
@@ -160,7 +160,7 @@ double lockstep_seconds(int threads, int reps, long steps, int every = 1) {
   return wall / static_cast<double>(steps);
 }
 
-/// The compute, cache and memory kernels: one core alone, then two copies side by side.
+/// The compute, cache, memory and store kernels: one core alone, then two copies side by side.
 void core_kernels(double seconds) {
   const CacheRing ring0(512 << 10), ring1(512 << 10);
   const Stream stream(std::size_t{512} << 20);

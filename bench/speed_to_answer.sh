@@ -6,8 +6,8 @@
 #     [sections ("lammps threads replicas fields error")]
 #
 #   cores     what a second core adds on this machine whatever the code (dem_core_contention:
-#             compute, cache, memory kernels alone and two side by side, and steps in lockstep
-#             with the team's barrier): the ceiling of the thread and replica ratios
+#             compute, cache, memory, store kernels alone and two side by side, and steps in
+#             lockstep with the team's barrier): the ceiling of the thread and replica ratios
 #   lammps    grainlift against LAMMPS on the whole reduced dense Kumar run from the same bed
 #             (bench/compare_lammps_production.sh; skipped with a message without `lmp`)
 #   threads   two threads against one: the step on the dense, jammed and dilute 23,000-27,000
