@@ -200,7 +200,13 @@ int main(int argc, char** argv) {
     std::printf("one core: nothing to compare\n");
     return 0;
   }
-  if (!(argc > 2 && std::string(argv[2]) == "lockstep")) core_kernels(seconds);
+  const bool lockstep_only = argc > 2 && std::string(argv[2]) == "lockstep";
+  if (argc > 2 && !lockstep_only) {
+    std::fprintf(stderr, "dem_core_contention: %s: the second argument is 'lockstep' or none\n",
+                 argv[2]);
+    return 2;
+  }
+  if (!lockstep_only) core_kernels(seconds);
   // lockstep: passes per step for about 3, 12, 50 and 200 us per thread; one thread and two
   // alternately, kRounds pairs (the median of the paired ratios: a VM's slow spells last
   // seconds and change either side by tens of percent)
